@@ -1,0 +1,93 @@
+import { randomBytes } from 'node:crypto'
+import { writeFileSync } from 'node:fs'
+import { availableParallelism } from 'node:os'
+import { createBoard } from '../engine/board.js'
+import { CALIBRATION } from '../engine/multipliers.js'
+import { rtpStatistics } from '../engine/rtp-statistics.js'
+import { ENGINE_VERSION } from '../engine/version.js'
+import { simulateBatch } from './simulate-batch.js'
+import { ProgressBar } from './progress-bar.js'
+import { distributionChartSvg } from './distribution-chart.js'
+import { symmetrize } from './calibration.js'
+import { parseOptions, integerOption, rowsOption, riskOption } from './options.js'
+
+export const rtpUsage = 'plinko rtp [--rows 16] [--risk medium] [--drops 1000000] [--server-seed S] [--client-seed C] [--workers N] [--chart FILE.svg] [--json]'
+
+/**
+ * Simulates many drops (nonces 0..drops-1 of one server/client seed pair),
+ * prints the bucket distribution and the return to player with its 95%
+ * confidence interval, and writes the distribution as an SVG chart.
+ */
+export async function rtpCommand (argv, out, err) {
+  const options = parseOptions(argv, {
+    rows: { type: 'string' },
+    risk: { type: 'string' },
+    drops: { type: 'string' },
+    'server-seed': { type: 'string' },
+    'client-seed': { type: 'string' },
+    workers: { type: 'string' },
+    chart: { type: 'string' },
+    json: { type: 'boolean' }
+  })
+  const rows = rowsOption(options.rows)
+  const risk = riskOption(options.risk)
+  const drops = integerOption(options.drops ?? '1000000', 'drops', { min: 1, max: 1e9 })
+  const workers = integerOption(options.workers ?? String(availableParallelism()), 'workers', { min: 1, max: 256 })
+  const serverSeed = options['server-seed'] || randomBytes(32).toString('hex')
+  const clientSeed = options['client-seed'] ?? 'rtp'
+  const chartPath = options.chart ?? `plinko-rtp-${rows}-${risk}.svg`
+  const board = createBoard({ rows, risk })
+
+  const progress = new ProgressBar(drops, err, `simulating ${rows} rows`)
+  const result = await simulateBatch({ rows, drops, serverSeed, clientSeed, workers, onProgress: (done) => progress.update(done) })
+  progress.finish()
+
+  const stats = rtpStatistics(result.counts, board.multipliers)
+  const calibratedCounts = CALIBRATION.bucketCounts[rows]
+  const expected = calibratedCounts ? symmetrize(calibratedCounts) : undefined
+  writeFileSync(chartPath, distributionChartSvg({
+    title: `Plinko ${rows} rows, ${risk} risk: ${drops} drops, RTP ${(stats.rtp * 100).toFixed(3)}%`,
+    counts: result.counts,
+    multipliers: board.multipliers,
+    expected
+  }))
+
+  const summary = {
+    engineVersion: ENGINE_VERSION,
+    rows,
+    risk,
+    drops,
+    serverSeed,
+    clientSeed,
+    counts: result.counts,
+    multipliers: board.multipliers,
+    rtp: stats.rtp,
+    standardError: stats.standardError,
+    ci95: stats.ci95,
+    calibratedRtp: CALIBRATION.rtp[rows]?.[risk],
+    meanTicks: result.meanTicks,
+    maxTicks: result.maxTicks,
+    seconds: result.seconds,
+    dropsPerSecond: drops / result.seconds,
+    workers,
+    chart: chartPath
+  }
+  if (options.json) {
+    out.write(JSON.stringify(summary) + '\n')
+    return
+  }
+  const percent = (x) => (x * 100).toFixed(3) + '%'
+  const lines = []
+  lines.push(`engine ${ENGINE_VERSION} · ${rows} rows · ${risk} risk · ${drops} drops · server seed ${serverSeed} · client seed ${clientSeed}`)
+  lines.push('')
+  lines.push('bucket  multiplier       drops     share  calibrated')
+  result.counts.forEach((count, i) => {
+    lines.push(`${String(i).padStart(6)}  ${String(board.multipliers[i]).padStart(10)}  ${String(count).padStart(10)}  ${percent(count / drops).padStart(8)}  ${expected ? percent(expected[i]).padStart(10) : ''}`)
+  })
+  lines.push('')
+  lines.push(`RTP ${percent(stats.rtp)} (95% CI ${percent(stats.ci95[0])} – ${percent(stats.ci95[1])}, standard error ${percent(stats.standardError)})`)
+  if (summary.calibratedRtp !== undefined) lines.push(`calibrated RTP ${percent(summary.calibratedRtp)} on ${CALIBRATION.drops} calibration drops`)
+  lines.push(`${result.seconds.toFixed(1)} s on ${workers} worker(s): ${Math.round(summary.dropsPerSecond)} drops/s, mean ${result.meanTicks.toFixed(1)} ticks (${(result.meanTicks / 60).toFixed(2)} s) per drop, longest ${result.maxTicks}`)
+  lines.push(`chart written to ${chartPath}`)
+  out.write(lines.join('\n') + '\n')
+}

@@ -1,0 +1,19 @@
+/**
+ * Plinko Arena's deterministic physics engine. Pure ESM; its only import is
+ * seedrandom. The simulation uses + - * / Math.sqrt, comparisons and integer
+ * operations only, so every JavaScript engine computes the same bits.
+ */
+export { ENGINE_VERSION } from './version.js'
+export { World, DEFAULT_TIMESTEP, DEFAULT_GRAVITY, DEFAULT_CELL_SIZE } from './world.js'
+export { FixedTimestep } from './fixed-timestep.js'
+export { SpatialHash } from './spatial-hash.js'
+export { StaticGrid } from './static-grid.js'
+export { StateHasher } from './state-hasher.js'
+export { METAL, HARD_PLASTIC } from './materials.js'
+export { createBoard, bucketAt, BOARD_GEOMETRY, MIN_ROWS, MAX_ROWS } from './board.js'
+export { RISKS, multiplierTable } from './multipliers.js'
+export { dropInitialConditions } from './drop-initial-conditions.js'
+export { DropSimulator, simulateDrop, MAX_DROP_TICKS } from './drop-simulator.js'
+export { sha256Hex, hmacSha256Hex, deriveDropSeed, dropSeedMessage } from './fairness.js'
+export { verifyDrop } from './verify-drop.js'
+export { rtpStatistics } from './rtp-statistics.js'

@@ -1,0 +1,19 @@
+import { createBoard } from './board.js'
+import { simulateDrop } from './drop-simulator.js'
+import { deriveDropSeed, sha256Hex } from './fairness.js'
+import { ENGINE_VERSION } from './version.js'
+
+/**
+ * Recomputes a drop from revealed seeds: the commitment, the drop seed and
+ * the physics outcome. Anyone can run this after the server seed is revealed.
+ * @param {{ serverSeed: string, clientSeed: string, nonce: number, rows?: number, risk?: string }} input
+ */
+export async function verifyDrop ({ serverSeed, clientSeed, nonce, rows = 16, risk = 'medium' }) {
+  const board = createBoard({ rows, risk })
+  const [serverSeedHash, dropSeed] = await Promise.all([
+    sha256Hex(serverSeed),
+    deriveDropSeed(serverSeed, clientSeed, nonce)
+  ])
+  const { bucket, multiplier, ticks, stateHash } = simulateDrop(board, dropSeed)
+  return { serverSeedHash, dropSeed, bucket, multiplier, ticks, stateHash, engineVersion: ENGINE_VERSION }
+}

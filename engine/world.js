@@ -1,0 +1,381 @@
+import { StaticShapes, SHAPE_CIRCLE, PARAMS_PER_SHAPE, SWEEP_DX, SWEEP_DY, SWEEP_TIME, SWEEP_NX, SWEEP_NY, SWEEP_DEPTH, SWEEP_SIZE } from './static-shapes.js'
+import { StaticGrid } from './static-grid.js'
+import { SpatialHash } from './spatial-hash.js'
+import { solveStaticContact, solveBodyContact } from './contact-solver.js'
+import { FixedTimestep } from './fixed-timestep.js'
+import { StateHasher } from './state-hasher.js'
+import { METAL } from './materials.js'
+
+export const DEFAULT_TIMESTEP = 1 / 60
+export const DEFAULT_GRAVITY = 980
+export const DEFAULT_CELL_SIZE = 50
+/** A body never moves more than this fraction of its radius in one sub-step, so its centre can never cross a wall or a peg unseen. */
+export const MAX_TRAVEL_PER_SUBSTEP = 1
+export const MAX_SUBSTEPS = 16
+/** Impacts resolved per sub-step; a ball wedged in a corner stops there for the rest of it. */
+export const MAX_IMPACTS_PER_SUBSTEP = 4
+const TWO_PI = 6.283185307179586
+const NO_CELL = 0x7fffffff
+
+/**
+ * A 2D rigid-body world of dynamic circles and static shapes.
+ *
+ * Per-body state lives in Float64Arrays indexed by body id; every loop runs
+ * in id order, so results never depend on insertion into a hash table.
+ * Each step integrates with semi-implicit Euler (velocity first, then
+ * position with the new velocity). The position update is a straight path
+ * swept against the static shapes: the body stops at the first time of
+ * impact, the impulse is applied there, and it carries on with the new
+ * velocity, so it never sinks into a peg or passes through a wall. A fast
+ * body is split into sub-steps of at most one radius of travel. The split is
+ * decided per body from its own speed, so bodies that do not collide with
+ * each other evolve independently: a ball's path is the same alone or among
+ * a hundred others. Body-body contacts (when enabled) are resolved once per
+ * step, after the motion, through the spatial hash.
+ */
+export class World {
+  /**
+   * @param {object} [options]
+   * @param {number} [options.gravityX] px/s²
+   * @param {number} [options.gravityY] px/s², default 980 (down)
+   * @param {number} [options.timestep] s, default 1/60
+   * @param {number} [options.cellSize] spatial hash cell (px), default 50
+   * @param {number} [options.maxBodyRadius] largest dynamic radius allowed, default cellSize / 2
+   * @param {number} [options.maxStepsPerUpdate] cap on steps per update() call
+   * @param {number} [options.capacity] initial body capacity
+   */
+  constructor (options = {}) {
+    this.gravityX = options.gravityX ?? 0
+    this.gravityY = options.gravityY ?? DEFAULT_GRAVITY
+    this.timestep = options.timestep ?? DEFAULT_TIMESTEP
+    this.cellSize = options.cellSize ?? DEFAULT_CELL_SIZE
+    this.maxBodyRadius = options.maxBodyRadius ?? this.cellSize / 2
+    if (!(this.maxBodyRadius * 2 <= this.cellSize)) throw new RangeError('cellSize must be at least twice maxBodyRadius')
+    this.clock = new FixedTimestep({ timestep: this.timestep, maxSteps: options.maxStepsPerUpdate ?? 5 })
+    this.statics = new StaticShapes()
+    this.staticGrid = new StaticGrid({ cellSize: options.staticCellSize ?? this.cellSize })
+    this._staticsDirty = false
+    this.tick = 0
+    this.bodyCount = 0 // ids 0..bodyCount-1 have been used
+    this._freeIds = []
+    this._allocate(options.capacity ?? 64)
+    this._pairHash = new SpatialHash({ cellSize: this.cellSize, capacity: this.capacity })
+    this._pairCount = 0 // live bodies that collide with other bodies
+    this._contact = new Float64Array(SWEEP_SIZE)
+    this._sweep = new Float64Array(SWEEP_SIZE)
+    this._pairContact = new Float64Array(3)
+    this._hasher = new StateHasher()
+    this._solvePair = (i, j) => this._collidePair(i, j)
+  }
+
+  _allocate (capacity) {
+    const old = this.capacity ? this : null
+    this.capacity = capacity
+    const f64 = (name) => { const a = new Float64Array(capacity); if (old) a.set(old[name]); return a }
+    const u8 = (name) => { const a = new Uint8Array(capacity); if (old) a.set(old[name]); return a }
+    this.x = f64('x'); this.y = f64('y')
+    this.vx = f64('vx'); this.vy = f64('vy')
+    this.angle = f64('angle'); this.angularVelocity = f64('angularVelocity')
+    this.previousX = f64('previousX'); this.previousY = f64('previousY'); this.previousAngle = f64('previousAngle')
+    this.radius = f64('radius')
+    this.inverseMass = f64('inverseMass'); this.inverseInertia = f64('inverseInertia')
+    this.restitution = f64('restitution'); this.friction = f64('friction')
+    this.alive = u8('alive')
+    // Last static-grid cell each body was in, so a lookup is only needed when it changes.
+    const i32 = (name) => { const a = new Int32Array(capacity); if (old) a.set(old[name]); return a }
+    this._cellX = i32('_cellX'); this._cellY = i32('_cellY'); this._cellSlot = i32('_cellSlot')
+    this.collidesWithBodies = u8('collidesWithBodies')
+  }
+
+  // ---- static geometry -------------------------------------------------
+
+  addStaticCircle (x, y, radius, material) { this._staticsDirty = true; return this.statics.addCircle(x, y, radius, material) }
+  addStaticSegment (x1, y1, x2, y2, material) { this._staticsDirty = true; return this.statics.addSegment(x1, y1, x2, y2, material) }
+  addStaticBox (minX, minY, maxX, maxY, material) { this._staticsDirty = true; return this.statics.addBox(minX, minY, maxX, maxY, material) }
+
+  _rebuildStaticGrid () {
+    // A body looks up the cell where its sub-step path starts; the path is at
+    // most one radius long, so list every shape within two radii of a cell.
+    const margin = this.maxBodyRadius * (1 + MAX_TRAVEL_PER_SUBSTEP)
+    const statics = this.statics
+    this.staticGrid.build(
+      statics.count,
+      (id, out) => statics.boundsOf(id, margin, out),
+      (id, minX, minY, maxX, maxY) => statics.nearBox(id, margin, minX, minY, maxX, maxY)
+    )
+    this._staticsDirty = false
+    for (let i = 0; i < this.bodyCount; i++) this._forgetCell(i)
+  }
+
+  _forgetCell (i) {
+    this._cellX[i] = NO_CELL
+    this._cellY[i] = NO_CELL
+    this._cellSlot[i] = -1
+  }
+
+  // ---- bodies ----------------------------------------------------------
+
+  /**
+   * Adds a dynamic circle. Returns its id.
+   * @param {object} def
+   * @param {number} def.x @param {number} def.y @param {number} def.radius
+   * @param {number} [def.vx] @param {number} [def.vy]
+   * @param {number} [def.angle] @param {number} [def.angularVelocity]
+   * @param {{density: number, restitution: number, friction: number}} [def.material]
+   * @param {boolean} [def.collidesWithBodies] default true
+   */
+  createCircle (def) {
+    const radius = def.radius
+    if (!(radius > 0 && radius <= this.maxBodyRadius)) {
+      throw new RangeError(`radius must be in (0, ${this.maxBodyRadius}]`)
+    }
+    const vx = def.vx ?? 0; const vy = def.vy ?? 0
+    const angle = def.angle ?? 0; const angularVelocity = def.angularVelocity ?? 0
+    if (!Number.isFinite(def.x + def.y + vx + vy + angle + angularVelocity)) {
+      throw new RangeError('x, y, vx, vy, angle and angularVelocity must be finite numbers')
+    }
+    const material = def.material ?? METAL
+    const id = this._freeIds.length > 0 ? this._freeIds.pop() : this.bodyCount++
+    if (id >= this.capacity) this._allocate(this.capacity * 2)
+    // Solid disc: m = ρ·π·r², I = m·r²/2.
+    const mass = material.density * Math.PI * radius * radius
+    this.x[id] = this.previousX[id] = def.x
+    this.y[id] = this.previousY[id] = def.y
+    this.vx[id] = vx
+    this.vy[id] = vy
+    this.angle[id] = this.previousAngle[id] = angle
+    this.angularVelocity[id] = angularVelocity
+    this._forgetCell(id)
+    this.radius[id] = radius
+    this.inverseMass[id] = 1 / mass
+    this.inverseInertia[id] = 2 / (mass * radius * radius)
+    this.restitution[id] = material.restitution
+    this.friction[id] = material.friction
+    this.alive[id] = 1
+    const pairs = def.collidesWithBodies ?? true
+    this.collidesWithBodies[id] = pairs ? 1 : 0
+    if (pairs) this._pairCount++
+    return id
+  }
+
+  /** @param {number} id */
+  destroyBody (id) {
+    if (!this.isAlive(id)) throw new RangeError(`no body ${id}`)
+    this.alive[id] = 0
+    if (this.collidesWithBodies[id] === 1) this._pairCount--
+    this.collidesWithBodies[id] = 0
+    this._freeIds.push(id)
+    // Keep reuse order deterministic: the lowest free id comes back first.
+    this._freeIds.sort((a, b) => b - a)
+  }
+
+  /** @param {number} id */
+  isAlive (id) {
+    return Number.isInteger(id) && id >= 0 && id < this.bodyCount && this.alive[id] === 1
+  }
+
+  liveBodyCount () {
+    let n = 0
+    for (let i = 0; i < this.bodyCount; i++) n += this.alive[i]
+    return n
+  }
+
+  // ---- time ------------------------------------------------------------
+
+  /**
+   * Advances by real elapsed time through the fixed-timestep accumulator.
+   * Runs at most maxStepsPerUpdate steps (time beyond that is dropped, so a
+   * long pause cannot spiral) and returns the interpolation alpha in [0, 1)
+   * between the previous and the current state.
+   * @param {number} frameTime seconds
+   */
+  update (frameTime) {
+    const steps = this.clock.advance(frameTime)
+    for (let s = 0; s < steps; s++) this.step()
+    return this.clock.alpha
+  }
+
+  /** One fixed step of `timestep` seconds. Allocates nothing. */
+  step () {
+    if (this._staticsDirty) this._rebuildStaticGrid()
+    const count = this.bodyCount
+    for (let i = 0; i < count; i++) {
+      if (this.alive[i] !== 1) continue
+      this.previousX[i] = this.x[i]
+      this.previousY[i] = this.y[i]
+      this.previousAngle[i] = this.angle[i]
+      this._advanceBody(i)
+    }
+    if (this._pairCount > 1) {
+      this._pairHash.rebuild(this.x, this.y, this.collidesWithBodies, count)
+      this._pairHash.forEachCandidatePair(count, this._solvePair)
+    }
+    this.tick++
+  }
+
+  _advanceBody (i) {
+    const dt = this.timestep
+    const gx = this.gravityX
+    const gy = this.gravityY
+    let vx = this.vx[i]; let vy = this.vy[i]
+    let angle = this.angle[i]
+    // Speed bound over the whole step (current speed plus what gravity adds),
+    // compared squared so no root is needed.
+    const speedX = (vx < 0 ? -vx : vx) + (gx < 0 ? -gx : gx) * dt
+    const speedY = (vy < 0 ? -vy : vy) + (gy < 0 ? -gy : gy) * dt
+    const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
+    const maxTravel = this.radius[i] * MAX_TRAVEL_PER_SUBSTEP
+    const maxTravel2 = maxTravel * maxTravel
+    let substeps = 1
+    while (substeps < MAX_SUBSTEPS && travel2 > substeps * substeps * maxTravel2) substeps++
+    const h = dt / substeps
+    const grid = this.staticGrid
+    const inverseCellSize = grid.inverseCellSize
+    let cellX = this._cellX[i]; let cellY = this._cellY[i]; let slot = this._cellSlot[i]
+    const statics = this.statics
+    const items = grid.items
+    const sweep = this._sweep
+    const contact = this._contact
+    const shapeKind = statics.kind
+    const shapeParams = statics.params
+    const radius = this.radius[i]
+    const xs = this.x; const ys = this.y
+    for (let s = 0; s < substeps; s++) {
+      vx += gx * h
+      vy += gy * h
+      angle += this.angularVelocity[i] * h
+      if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
+      // Move along the straight sub-step path, stopping at each first impact
+      // to resolve it, then carrying on with the new velocity.
+      let remaining = 1
+      for (let impact = 0; impact < MAX_IMPACTS_PER_SUBSTEP && remaining > 0; impact++) {
+        const ix = Math.floor(xs[i] * inverseCellSize)
+        const iy = Math.floor(ys[i] * inverseCellSize)
+        if (ix !== cellX || iy !== cellY) {
+          cellX = ix; cellY = iy
+          slot = grid.slotOf(ix, iy)
+        }
+        const dx = vx * h * remaining
+        const dy = vy * h * remaining
+        let first = -1
+        let firstTime = 2
+        if (slot >= 0) {
+          sweep[SWEEP_DX] = dx; sweep[SWEEP_DY] = dy
+          const x = xs[i]; const y = ys[i]
+          const pathLength2 = dx * dx + dy * dy
+          for (let k = grid.startOf(slot), end = k + grid.countOf(slot); k < end; k++) {
+            const shape = items[k]
+            if (shapeKind[shape] === SHAPE_CIRCLE) {
+              // Most candidates are pegs the path does not reach: reject them
+              // here. With m the offset from the peg, the squared distance
+              // along the path is f(t) = a·t² + 2b·t + c; a hit needs f ≤ 0
+              // for some t in [0, 1] while approaching (b < 0).
+              const p = shape * PARAMS_PER_SHAPE
+              const mx = x - shapeParams[p]; const my = y - shapeParams[p + 1]
+              const b = mx * dx + my * dy
+              if (b >= 0) continue
+              const reach = radius + shapeParams[p + 2]
+              const c = mx * mx + my * my - reach * reach
+              if (c > 0 && pathLength2 + 2 * b + c > 0 && (-b >= pathLength2 || b * b < pathLength2 * c)) continue
+            }
+            // Strictly earlier wins, so ties go to the lowest shape id.
+            if (statics.sweep(shape, this, i, sweep) && sweep[SWEEP_TIME] < firstTime) {
+              first = shape
+              firstTime = sweep[SWEEP_TIME]
+              contact[SWEEP_NX] = sweep[SWEEP_NX]; contact[SWEEP_NY] = sweep[SWEEP_NY]; contact[SWEEP_DEPTH] = sweep[SWEEP_DEPTH]
+            }
+          }
+        }
+        if (first < 0) {
+          xs[i] += dx; ys[i] += dy
+          break
+        }
+        xs[i] += dx * firstTime; ys[i] += dy * firstTime
+        remaining -= remaining * firstTime
+        this.vx[i] = vx; this.vy[i] = vy
+        solveStaticContact(this, i, statics, first, contact)
+        vx = this.vx[i]; vy = this.vy[i]
+      }
+    }
+    this.vx[i] = vx; this.vy[i] = vy
+    this.angle[i] = angle
+    this._cellX[i] = cellX; this._cellY[i] = cellY; this._cellSlot[i] = slot
+  }
+
+  _collidePair (i, j) {
+    const dx = this.x[i] - this.x[j]
+    const dy = this.y[i] - this.y[j]
+    const reach = this.radius[i] + this.radius[j]
+    const dist2 = dx * dx + dy * dy
+    if (dist2 >= reach * reach) return
+    const contact = this._pairContact
+    if (dist2 > 0) {
+      const dist = Math.sqrt(dist2)
+      contact[0] = dx / dist; contact[1] = dy / dist; contact[2] = reach - dist
+    } else {
+      contact[0] = 0; contact[1] = -1; contact[2] = reach
+    }
+    solveBodyContact(this, i, j, contact)
+  }
+
+  // ---- state -----------------------------------------------------------
+
+  /**
+   * Hash of the exact bits of every live body's state (id, position,
+   * velocity, angle, angular velocity), in id order, plus the tick.
+   * @returns {string} 16 hex digits
+   */
+  stateHash () {
+    const h = this._hasher.reset()
+    h.addInt32(this.tick)
+    for (let i = 0; i < this.bodyCount; i++) {
+      if (this.alive[i] !== 1) continue
+      h.addInt32(i)
+      this._hashBody(h, i)
+    }
+    return h.digestHex()
+  }
+
+  /** Hash of one body's state bits alone (independent of id and tick). */
+  bodyStateHash (id) {
+    if (!this.isAlive(id)) throw new RangeError(`no body ${id}`)
+    const h = this._hasher.reset()
+    this._hashBody(h, id)
+    return h.digestHex()
+  }
+
+  _hashBody (h, i) {
+    h.addFloat64(this.x[i]).addFloat64(this.y[i])
+      .addFloat64(this.vx[i]).addFloat64(this.vy[i])
+      .addFloat64(this.angle[i]).addFloat64(this.angularVelocity[i])
+  }
+
+  /**
+   * Interpolated pose for rendering, into out[0..2] = x, y, angle.
+   * @param {number} id @param {number} alpha from update()
+   * @param {Float64Array | number[]} out
+   */
+  interpolatedPose (id, alpha, out) {
+    out[0] = this.previousX[id] + (this.x[id] - this.previousX[id]) * alpha
+    out[1] = this.previousY[id] + (this.y[id] - this.previousY[id]) * alpha
+    let da = this.angle[id] - this.previousAngle[id]
+    if (da > Math.PI) da -= TWO_PI
+    else if (da < -Math.PI) da += TWO_PI
+    out[2] = this.previousAngle[id] + da * alpha
+    return out
+  }
+
+  /** Kinetic + gravitational potential energy of all live bodies (for tests and diagnostics). */
+  totalEnergy () {
+    let energy = 0
+    for (let i = 0; i < this.bodyCount; i++) {
+      if (this.alive[i] !== 1) continue
+      const m = 1 / this.inverseMass[i]
+      const inertia = 1 / this.inverseInertia[i]
+      const v2 = this.vx[i] * this.vx[i] + this.vy[i] * this.vy[i]
+      const w = this.angularVelocity[i]
+      energy += 0.5 * m * v2 + 0.5 * inertia * w * w - m * (this.gravityX * this.x[i] + this.gravityY * this.y[i])
+    }
+    return energy
+  }
+}

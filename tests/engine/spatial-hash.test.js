@@ -1,0 +1,111 @@
+import { describe, it, expect } from 'vitest'
+import seedrandom from 'seedrandom'
+import { SpatialHash } from '../../engine/spatial-hash.js'
+import { StaticGrid } from '../../engine/static-grid.js'
+import { StaticShapes } from '../../engine/static-shapes.js'
+import { World } from '../../engine/world.js'
+
+function randomBodies (count, seed, spread) {
+  const random = seedrandom(seed)
+  const xs = new Float64Array(count)
+  const ys = new Float64Array(count)
+  const radii = new Float64Array(count)
+  const member = new Uint8Array(count)
+  for (let i = 0; i < count; i++) {
+    xs[i] = (random() - 0.5) * spread
+    ys[i] = (random() - 0.5) * spread
+    radii[i] = 2 + random() * 10
+    member[i] = random() < 0.9 ? 1 : 0
+  }
+  return { xs, ys, radii, member }
+}
+
+function touchingPairsBruteForce ({ xs, ys, radii, member }) {
+  const pairs = []
+  for (let i = 0; i < xs.length; i++) {
+    for (let j = i + 1; j < xs.length; j++) {
+      if (!member[i] || !member[j]) continue
+      const dx = xs[i] - xs[j]; const dy = ys[i] - ys[j]; const r = radii[i] + radii[j]
+      if (dx * dx + dy * dy < r * r) pairs.push(`${i}-${j}`)
+    }
+  }
+  return pairs
+}
+
+describe('SpatialHash (dynamic broad phase)', () => {
+  for (const [count, spread, seed] of [[200, 400, 'a'], [1000, 1500, 'b'], [500, 100, 'dense'], [300, 1e6, 'sparse']]) {
+    it(`finds exactly the brute-force touching pairs (${count} bodies over ${spread} px)`, () => {
+      const bodies = randomBodies(count, seed, spread)
+      const hash = new SpatialHash({ cellSize: 25, capacity: 16 })
+      hash.rebuild(bodies.xs, bodies.ys, bodies.member, count)
+      const seen = new Set()
+      const found = []
+      hash.forEachCandidatePair(count, (i, j) => {
+        expect(i).toBeLessThan(j)
+        const key = `${i}-${j}`
+        expect(seen.has(key)).toBe(false) // each pair visited once
+        seen.add(key)
+        const dx = bodies.xs[i] - bodies.xs[j]; const dy = bodies.ys[i] - bodies.ys[j]; const r = bodies.radii[i] + bodies.radii[j]
+        if (dx * dx + dy * dy < r * r) found.push(key)
+      })
+      expect(found.sort()).toEqual(touchingPairsBruteForce(bodies).sort())
+    })
+  }
+
+  it('visits pairs in the same order on every rebuild', () => {
+    const bodies = randomBodies(300, 'order', 300)
+    const hash = new SpatialHash({ cellSize: 25, capacity: 300 })
+    const run = () => {
+      hash.rebuild(bodies.xs, bodies.ys, bodies.member, 300)
+      const order = []
+      hash.forEachCandidatePair(300, (i, j) => order.push(i * 1000 + j))
+      return order
+    }
+    expect(run()).toEqual(run())
+  })
+})
+
+describe('StaticGrid (static broad phase)', () => {
+  it('lists, for any point, every static shape a body of the largest radius there could touch', () => {
+    const shapes = new StaticShapes()
+    const random = seedrandom('statics')
+    const material = { restitution: 0.5, friction: 0.3 }
+    for (let i = 0; i < 150; i++) shapes.addCircle(random() * 600, random() * 600, 2 + random() * 6, material)
+    for (let i = 0; i < 20; i++) shapes.addSegment(random() * 600, random() * 600, random() * 600, random() * 600, material)
+    for (let i = 0; i < 10; i++) { const x = random() * 550; const y = random() * 550; shapes.addBox(x, y, x + 5 + random() * 40, y + 5 + random() * 40, material) }
+    const maxRadius = 7
+    const grid = new StaticGrid({ cellSize: 32 })
+    grid.build(shapes.count, (id, out) => shapes.boundsOf(id, maxRadius, out), (id, a, b, c, d) => shapes.nearBox(id, maxRadius, a, b, c, d))
+    let checked = 0
+    for (let n = 0; n < 5000; n++) {
+      const x = -20 + random() * 640
+      const y = -20 + random() * 640
+      const listed = new Set()
+      const slot = grid.slotAt(x, y)
+      if (slot >= 0) for (let k = grid.startOf(slot); k < grid.startOf(slot) + grid.countOf(slot); k++) listed.add(grid.items[k])
+      for (let id = 0; id < shapes.count; id++) {
+        if (shapes.distanceSquaredTo(id, x, y) <= maxRadius * maxRadius) {
+          expect(listed.has(id)).toBe(true)
+          checked++
+        }
+      }
+    }
+    expect(checked).toBeGreaterThan(500)
+  })
+
+  it('keeps shape ids ascending within each cell (contacts solved in a fixed order)', () => {
+    const world = new World()
+    for (let i = 0; i < 100; i++) world.addStaticCircle((i * 37) % 300, (i * 53) % 300, 4, { restitution: 0.5, friction: 0.3 })
+    world.step()
+    const grid = world.staticGrid
+    for (let y = 0; y < 300; y += 10) {
+      for (let x = 0; x < 300; x += 10) {
+        const slot = grid.slotAt(x, y)
+        if (slot < 0) continue
+        for (let k = grid.startOf(slot) + 1; k < grid.startOf(slot) + grid.countOf(slot); k++) {
+          expect(grid.items[k]).toBeGreaterThan(grid.items[k - 1])
+        }
+      }
+    }
+  })
+})
