@@ -164,9 +164,13 @@ export class World {
     this.alive[id] = 0
     if (this.collidesWithBodies[id] === 1) this._pairCount--
     this.collidesWithBodies[id] = 0
-    this._freeIds.push(id)
-    // Keep reuse order deterministic: the lowest free id comes back first.
-    this._freeIds.sort((a, b) => b - a)
+    // Free ids are kept in descending order, so the lowest comes back first:
+    // insert in place rather than sort, which would allocate.
+    const free = this._freeIds
+    let k = free.length
+    free.push(id)
+    while (k > 0 && free[k - 1] < id) { free[k] = free[k - 1]; k-- }
+    free[k] = id
   }
 
   /** @param {number} id */

@@ -1,0 +1,240 @@
+#!/usr/bin/env node
+/**
+ * Server tick benchmark: `node bench/server-ticks.js [--quick]`.
+ *
+ * The arena's 60 Hz loop, on one core (the script re-runs itself under
+ * `taskset -c 0` when taskset exists), with 1,000 rooms on the 16-row board,
+ * each with one connected client and 10 balls in flight: when a ball
+ * settles its owner drops another, through the full server path (rate
+ * limiter, nonce, HMAC drop seed, group commit to SQLite in WAL mode with
+ * synchronous=FULL, `dropped`/`settled` events, 20 Hz binary snapshots to the
+ * client). Clients are in-process stand-ins that count bytes, so the figure
+ * is the loop's own work, not the kernel's.
+ *
+ * Prints p50/p99/max of the tick (every room stepped, landings collected,
+ * snapshots encoded and handed to the client), of the group-commit
+ * transaction that follows each tick (outside the tick, in the same event
+ * loop), of the tick lag, and of the engine alone stepping the same load.
+ * Goal: tick p99 < 8 ms. Exit code 0 whatever the figures.
+ */
+import { spawnSync } from 'node:child_process'
+import fs from 'node:fs'
+import os from 'node:os'
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+import { DropSimulator } from '../engine/index.js'
+import { Arena } from '../server/arena.js'
+import { loadConfig } from '../server/config.js'
+import { createMetrics } from '../server/metrics.js'
+import { openStore } from '../server/store/open-store.js'
+import { createSession } from '../server/ledger/sessions.js'
+import { Room } from '../server/rooms/room.js'
+import { boardOf } from '../server/rooms/room-id.js'
+import { deriveDropSeed } from '../server/fairness/seeds.js'
+import { summarize } from './measure.js'
+import { formatTable, fixed, int, bytes } from './table.js'
+
+const ROOMS = 1000
+const BALLS_PER_ROOM = 10
+const GOAL_P99_MS = 8
+const USAGE = 'usage: node bench/server-ticks.js [--quick]'
+
+const args = process.argv.slice(2)
+for (const arg of args) {
+  if (arg === '--help' || arg === '-h') { console.log(USAGE); process.exit(0) }
+  if (arg !== '--quick') { console.error(`unknown argument ${arg}\n${USAGE}`); process.exit(2) }
+}
+const quick = args.includes('--quick')
+pinToOneCore()
+
+const WARMUP_SECONDS = quick ? 4 : 8
+const MEASURE_SECONDS = quick ? 4 : 20
+
+/** An in-process client: counts what the arena sends and re-drops when its ball settles. */
+class BenchClient {
+  constructor (arena, account, room) {
+    this.arena = arena
+    this.account = account
+    this.room = room
+    this.eventBytes = 0
+    this.snapshotBytes = 0
+    this.errors = 0
+  }
+
+  sendEvent (text, type) {
+    this.eventBytes += text.length
+    if (type === 'settled' && this.arena.accepting) this.drop()
+  }
+
+  sendSnapshot (frame) { this.snapshotBytes += frame.length }
+  sendError () { this.errors++ }
+  drop () { this.arena.drop(this, { bet: 1 }) }
+}
+
+const silentLog = { info () {}, warn () {}, error (...a) { console.error(...a) }, debug () {} }
+const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-bench-'))
+for (const signal of ['SIGINT', 'SIGTERM']) {
+  process.once(signal, () => { fs.rmSync(dir, { recursive: true, force: true }); process.exit(130) })
+}
+try {
+  await run()
+} finally {
+  fs.rmSync(dir, { recursive: true, force: true })
+}
+
+async function run () {
+  const config = loadConfig({
+    DATABASE_URL: `sqlite:${path.join(dir, 'ledger.sqlite')}`,
+    OPERATOR_TOKEN: 'bench-operator-token-0123456789',
+    LOG_LEVEL: 'silent',
+    STARTING_BALANCE: '1000000000',
+    DROP_RATE: '1000',
+    DROP_BURST: '1000'
+  })
+  const store = await openStore(config.database)
+  const commitSamples = []
+  const commitBatch = store.commitBatch.bind(store)
+  store.commitBatch = (batch) => {
+    // better-sqlite3 is synchronous: the transaction is over when the call returns.
+    const started = process.hrtime.bigint()
+    const done = commitBatch(batch)
+    if (measuring) commitSamples.push(Number(process.hrtime.bigint() - started) / 1e6)
+    return done
+  }
+  const arena = new Arena({ config, store, metrics: createMetrics({ defaultMetrics: false }), log: silentLog, firstDropId: 1 })
+
+  const board = boardOf('16-medium')
+  const clients = []
+  for (let i = 0; i < ROOMS; i++) {
+    const session = await createSession(store, config)
+    const account = await arena.accounts.acquire(session.playerId)
+    const room = new Room({ id: `bench-${i}`, board, snapshotEvery: 60 / config.snapshotHz, snapshotPhase: i })
+    arena.rooms.adopt(room)
+    const client = new BenchClient(arena, account, room)
+    account.connections.add(client)
+    room.clients.add(client)
+    clients.push(client)
+  }
+
+  // Time each tick and its lag; everything else is the production loop.
+  let measuring = false
+  const tickSamples = []
+  const lagSamples = []
+  const scheduler = arena.scheduler
+  const tick = scheduler.onTick
+  scheduler.onTick = () => {
+    const started = process.hrtime.bigint()
+    tick()
+    if (measuring) tickSamples.push(Number(process.hrtime.bigint() - started) / 1e6)
+  }
+  const runTick = scheduler._runTick.bind(scheduler)
+  scheduler._runTick = (lagNs) => {
+    if (measuring) lagSamples.push(Number(lagNs) / 1e6)
+    runTick(lagNs)
+  }
+
+  // Fill the rooms gradually (one ball per room every 25 ticks) so landings spread out.
+  let filled = 0
+  const fill = () => {
+    if (filled++ < BALLS_PER_ROOM) for (const client of clients) client.drop()
+  }
+  fill()
+  const filler = setInterval(fill, 25 * 1000 / 60)
+  arena.start()
+  await sleep(WARMUP_SECONDS * 1000)
+  clearInterval(filler)
+
+  const before = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: arena.nextDropId, snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+  let ballSamples = 0
+  let ballTotal = 0
+  const ballSampler = setInterval(() => {
+    for (const room of arena.rooms.values()) ballTotal += room.ballsInFlight
+    ballSamples++
+  }, 250)
+  const startedAt = performance.now()
+  measuring = true
+  await sleep(MEASURE_SECONDS * 1000)
+  measuring = false
+  const seconds = (performance.now() - startedAt) / 1000
+  clearInterval(ballSampler)
+  const after = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: arena.nextDropId, snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+
+  arena.stopAccepting()
+  scheduler.stop()
+  await arena.ledger.drain()
+  await store.close()
+
+  const engine = engineOnly(board, quick ? 600 : 1800)
+  const tickStats = summarize(Float64Array.from(tickSamples))
+  const commitStats = summarize(Float64Array.from(commitSamples))
+  const lagStats = summarize(Float64Array.from(lagSamples))
+  const row = (name, s, note = '') => [name, fixed(s.p50, 2), fixed(s.p99, 2), fixed(s.max, 2), fixed(s.mean, 2), note]
+
+  console.log(`\nServer ticks: ${int(ROOMS)} rooms × ${BALLS_PER_ROOM} balls (16 rows), 1 client per room, SQLite WAL + synchronous=FULL` +
+    `${process.env.PLINKO_BENCH_PINNED ? ', pinned to CPU 0' : ''}; ${fixed(seconds, 1)} s measured after ${WARMUP_SECONDS} s warm-up${quick ? ' (--quick)' : ''}\n`)
+  console.log(formatTable(
+    [{ title: 'per tick (ms)', align: 'left' }, { title: 'p50' }, { title: 'p99' }, { title: 'max' }, { title: 'mean' }, { title: 'note', align: 'left' }],
+    [
+      row('tick: step rooms + snapshots', tickStats, `goal p99 < ${GOAL_P99_MS} ms: ${tickStats.p99 < GOAL_P99_MS ? 'met' : 'NOT met'}`),
+      row('group commit (after the tick)', commitStats, `${int(commitSamples.length)} transactions`),
+      row('tick lag (start vs. schedule)', lagStats, ''),
+      row('engine alone, same load', engine, 'DropSimulator.step × 1,000')
+    ]
+  ))
+  const ticks = after.ticks - before.ticks
+  const drops = after.drops - before.drops
+  console.log('\n' + formatTable(
+    [{ title: 'throughput', align: 'left' }, { title: 'value' }],
+    [
+      ['ticks per second', fixed(ticks / seconds, 2)],
+      ['ticks dropped (stalls > 10 ticks)', int(after.dropped - before.dropped)],
+      ['balls in flight (mean)', int(ballTotal / Math.max(1, ballSamples))],
+      ['drops recorded per second', int(drops / seconds)],
+      ['snapshot bytes per second (all clients)', bytes((after.snapshotBytes - before.snapshotBytes) / seconds)],
+      ['event bytes per second (all clients)', bytes((after.eventBytes - before.eventBytes) / seconds)]
+    ]
+  ))
+}
+
+/** The engine's share: the same 10,000 balls stepped with nothing else. */
+function engineOnly (board, ticks) {
+  const simulators = Array.from({ length: ROOMS }, () => new DropSimulator(board))
+  let nonce = 0
+  const seed = () => deriveDropSeed('bench-server-seed', 'bench', nonce++)
+  simulators.forEach((simulator, r) => { for (let b = 0; b < BALLS_PER_ROOM; b++) simulator.addDrop(seed(), r) })
+  // Spread the balls over their flight first, as in a busy server.
+  for (let t = 0; t < 300; t++) stepAll(simulators, seed)
+  const samples = new Float64Array(ticks)
+  for (let t = 0; t < ticks; t++) {
+    const started = process.hrtime.bigint()
+    stepAll(simulators, seed)
+    samples[t] = Number(process.hrtime.bigint() - started) / 1e6
+  }
+  return summarize(samples)
+}
+
+function stepAll (simulators, seed) {
+  for (const simulator of simulators) {
+    const landed = simulator.step()
+    for (let i = landed.length; i > 0; i--) simulator.addDrop(seed())
+  }
+}
+
+function sum (items, key) {
+  return items.reduce((total, item) => total + item[key], 0)
+}
+
+function sleep (ms) {
+  return new Promise((resolve) => setTimeout(resolve, ms))
+}
+
+/** "On one core": re-run under taskset -c 0 when it is available. */
+function pinToOneCore () {
+  if (process.env.PLINKO_BENCH_PINNED || process.env.PLINKO_BENCH_NO_PIN) return
+  if (spawnSync('taskset', ['-V'], { stdio: 'ignore' }).status !== 0) return
+  const child = spawnSync('taskset', ['-c', '0', process.execPath, ...process.execArgv, fileURLToPath(import.meta.url), ...process.argv.slice(2)], {
+    stdio: 'inherit',
+    env: { ...process.env, PLINKO_BENCH_PINNED: '1' }
+  })
+  process.exit(child.status ?? 1)
+}

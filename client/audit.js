@@ -1,0 +1,361 @@
+import { createBoard, simulateDrop, rtpStatistics, ENGINE_VERSION, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
+import { CALIBRATION } from '/engine/multipliers.js'
+import { apiRequest, ApiError, query } from './api.js'
+import { byId, el, fill, formatAmount, formatMultiplier, shortHex } from './dom.js'
+import { BoardRenderer } from './board-renderer.js'
+import { ReplayPlayer } from './replay-player.js'
+import { checkFairness } from './fair-check.js'
+import { bucketChart, rtpChart, legend, CHART_COLORS } from './rtp-chart.js'
+
+/**
+ * The operator's page (/audit). Every call carries the operator token
+ * (kept in sessionStorage: gone when the tab closes). A drop looked up by
+ * id or by seeds is shown three ways — the stored record, the server's
+ * fresh re-simulation, and this browser's own simulation with the same
+ * engine — and replayed on the canvas from its trajectory. State for tests
+ * is on window.__audit.
+ */
+
+const TOKEN_KEY = 'plinko.operatorToken'
+const STATS_REFRESH_MS = 2000
+
+const renderer = new BoardRenderer(byId('replay-canvas'), {
+  maxHeight: () => Math.min(620, window.innerHeight * 0.7),
+  onResize: () => (player?.trajectory ? player.render() : renderer.draw([], performance.now()))
+})
+const player = new ReplayPlayer(renderer, showReplayState)
+const state = {
+  token: sessionStorage.getItem(TOKEN_KEY),
+  /** @type {any[]} */
+  lookups: [],
+  stats: { room: null, timer: null, samples: [], last: null }
+}
+
+/** The server's payout rule (server/fairness/payout.js): integer thousandths, rounded down. */
+function payoutFor (bet, multiplier) {
+  return Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+}
+
+function operatorGet (path) {
+  return apiRequest('GET', path, { token: state.token })
+}
+
+// ---- sign-in ----------------------------------------------------------------
+
+async function signIn (token) {
+  state.token = token
+  try {
+    await operatorGet('/api/audit/drops?limit=1')
+  } catch (error) {
+    state.token = null
+    sessionStorage.removeItem(TOKEN_KEY)
+    showAuth(false, error instanceof ApiError && (error.status === 401 || error.status === 403) ? 'That is not the operator token.' : `Cannot check the token: ${error.message}`)
+    return false
+  }
+  sessionStorage.setItem(TOKEN_KEY, token)
+  showAuth(true, 'Signed in.')
+  showBusiestRoom()
+  return true
+}
+
+/** Starts the statistics on the live room with the most balls in flight, if any. */
+async function showBusiestRoom () {
+  if (state.stats.room) return
+  const { rooms } = await apiRequest('GET', '/api/rooms').catch(() => ({ rooms: [] }))
+  const busiest = rooms.slice().sort((p, q) => q.ballsInFlight - p.ballsInFlight || q.players - p.players)[0]
+  if (!busiest || state.stats.room) return
+  byId('stats-rows').value = String(busiest.rows)
+  byId('stats-risk').value = busiest.risk
+  showStats(busiest.id)
+}
+
+function signOut () {
+  state.token = null
+  sessionStorage.removeItem(TOKEN_KEY)
+  stopStats()
+  showAuth(false, 'Signed out.')
+}
+
+function showAuth (signedIn, message) {
+  const pill = byId('auth-state')
+  pill.dataset.status = signedIn ? 'open' : 'stopped'
+  pill.textContent = signedIn ? 'operator' : 'signed out'
+  byId('login-message').textContent = message
+  byId('token').value = ''
+  for (const section of document.querySelectorAll('.lookup, .player-drops, .stats')) section.toggleAttribute('inert', !signedIn)
+}
+
+function requireToken () {
+  if (state.token) return true
+  byId('login-message').textContent = 'Sign in with the operator token first.'
+  return false
+}
+
+// ---- drop look-up -----------------------------------------------------------
+
+async function lookupById (id) {
+  if (!requireToken()) return null
+  say(`Looking up drop #${id}…`)
+  let audit
+  try {
+    audit = await operatorGet(`/api/audit/drops/${id}`)
+  } catch (error) {
+    say(`Drop #${id}: ${error.message}`, 'error')
+    return null
+  }
+  const { drop, replay, checks, matches } = audit
+  const board = createBoard({ rows: drop.rows, risk: drop.risk })
+  const local = simulateDrop(board, drop.dropSeed, { trajectory: true })
+  const chain = drop.serverSeed ? await checkFairness(drop, drop) : null
+  const browser = {
+    engineVersion: ENGINE_VERSION,
+    serverSeedHash: chain ? chain.serverSeedHash : null,
+    dropSeed: chain ? chain.dropSeed : null,
+    bucket: local.bucket,
+    multiplier: local.multiplier,
+    payout: payoutFor(drop.bet, local.multiplier),
+    ticks: local.ticks,
+    stateHash: local.stateHash
+  }
+  const result = record({ dropId: drop.id, drop, replay, browser, serverChecks: checks, serverMatches: matches })
+  player.load(board, local.trajectory, local.bucket)
+  say(`Drop #${drop.id} by player ${drop.playerId} in room ${drop.room}.`)
+  return result
+}
+
+async function lookupBySeeds ({ serverSeed, clientSeed, nonce, rows, risk }) {
+  if (!requireToken()) return null
+  say('Verifying seeds…')
+  let verified
+  try {
+    verified = await operatorGet(`/api/audit/verify${query({ serverSeed, clientSeed, nonce, rows, risk })}`)
+  } catch (error) {
+    say(`Seeds: ${error.message}`, 'error')
+    return null
+  }
+  const chain = await checkFairness({ serverSeed, clientSeed, nonce, rows, risk })
+  const stored = verified.recorded.length > 0 ? await operatorGet(`/api/audit/drops/${verified.recorded[0].id}`).catch(() => null) : null
+  const board = createBoard({ rows, risk })
+  const local = simulateDrop(board, chain.dropSeed, { trajectory: true })
+  const bet = stored?.drop.bet ?? null
+  const replay = { ...verified, payout: bet === null ? null : payoutFor(bet, verified.multiplier) }
+  const browser = {
+    engineVersion: ENGINE_VERSION,
+    serverSeedHash: chain.serverSeedHash,
+    dropSeed: chain.dropSeed,
+    bucket: local.bucket,
+    multiplier: local.multiplier,
+    payout: bet === null ? null : payoutFor(bet, local.multiplier),
+    ticks: local.ticks,
+    stateHash: local.stateHash
+  }
+  const result = record({
+    dropId: stored?.drop.id ?? null,
+    drop: stored?.drop ?? null,
+    replay,
+    browser,
+    serverChecks: stored?.checks ?? null,
+    serverMatches: stored ? stored.matches : null,
+    recorded: verified.recorded
+  })
+  player.load(board, local.trajectory, local.bucket)
+  say(stored ? `These seeds are drop #${stored.drop.id}.` : 'No stored drop has these seeds (computed only).')
+  return result
+}
+
+const FIELDS = ['engineVersion', 'serverSeedHash', 'dropSeed', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash']
+
+/**
+ * Shows stored record / server re-simulation / browser simulation side by
+ * side and remembers the outcome for tests.
+ */
+function record ({ dropId, drop, replay, browser, serverChecks, serverMatches, recorded = null }) {
+  const rows = FIELDS.map((field) => {
+    const stored = drop ? drop[field] : undefined
+    const values = [stored, replay[field], browser[field]]
+    const known = values.filter((v) => v !== null && v !== undefined)
+    const agree = known.length < 2 ? null : known.every((v) => v === known[0])
+    return { field, stored, server: replay[field], browser: browser[field], agree }
+  })
+  const settled = drop?.status === 'settled'
+  const browserMatches = drop
+    ? settled && ['bucket', 'ticks', 'stateHash', 'multiplier', 'payout'].every((f) => drop[f] === browser[f]) && drop.dropSeed && (browser.dropSeed === null || browser.dropSeed === drop.dropSeed)
+    : ['bucket', 'ticks', 'stateHash', 'dropSeed', 'serverSeedHash'].every((f) => replay[f] === browser[f])
+  const matches = Boolean(browserMatches) && serverMatches !== false && rows.every((r) => r.agree !== false)
+  const result = { dropId, matches, serverMatches, browserMatches: Boolean(browserMatches), settled, rows, recorded }
+  state.lookups.push(result)
+
+  const banner = drop
+    ? (matches
+        ? 'MATCH — the stored record, the server\'s re-simulation and this browser\'s simulation agree'
+        : settled ? 'MISMATCH — see the fields marked ✗' : 'IN FLIGHT — no outcome recorded yet')
+    : (matches ? 'Server and browser agree on these seeds (no stored drop uses them)' : 'MISMATCH between server and browser')
+  const cell = (value) => el('td', { title: value === null || value === undefined ? '' : String(value), text: format(value) })
+  fill(byId('record'),
+    el('div', { class: `banner ${matches ? 'ok' : 'bad'}`, id: 'match-banner', dataset: { matches: String(matches) }, text: banner }),
+    drop ? el('p', { class: 'note', text: `Drop #${drop.id} · player ${drop.playerId} · room ${drop.room} · bet ${formatAmount(drop.bet)} · nonce ${drop.nonce} · client seed “${drop.clientSeed}” · ${drop.status} · created ${drop.createdAt}${drop.serverSeed ? '' : ' · server seed not revealed (the chain from the commitment is checked by the server only)'}` }) : null,
+    el('div', { class: 'table-wrap' },
+      el('table', { class: 'compare' },
+        el('thead', {}, el('tr', {}, el('th', { text: 'field' }), el('th', { text: 'stored' }), el('th', { text: 'server re-sim' }), el('th', { text: 'browser' }), el('th', { text: '' }))),
+        el('tbody', {}, ...rows.map((r) => el('tr', {},
+          el('td', { text: r.field }), cell(r.stored), cell(r.server), cell(r.browser),
+          el('td', { class: r.agree === null ? '' : r.agree ? 'ok' : 'bad', text: r.agree === null ? '' : r.agree ? '✓' : '✗' })))))),
+    recorded && recorded.length > 1 ? el('p', { class: 'note', text: `Stored drops with these seeds: ${recorded.map((r) => `#${r.id} (${r.matches ? 'matches' : 'differs'})`).join(', ')}` }) : null
+  )
+  return result
+}
+
+function format (value) {
+  if (value === null || value === undefined) return '–'
+  if (typeof value === 'string' && value.length > 24) return shortHex(value, 10)
+  if (typeof value === 'number' && !Number.isInteger(value)) return formatMultiplier(value)
+  return String(value)
+}
+
+function say (text, kind = 'info') {
+  const line = byId('lookup-message')
+  line.textContent = text
+  line.dataset.kind = kind
+}
+
+function showReplayState (p) {
+  byId('play').textContent = p.playing ? '❚❚ Pause' : '▶ Play'
+  const scrub = byId('scrub')
+  scrub.max = String(p.ticks)
+  scrub.value = String(Math.round(p.position))
+  byId('tick-readout').textContent = p.trajectory ? `tick ${p.tick} / ${p.ticks}${p.tick >= p.ticks ? ` · bucket ${p.bucket}` : ''}` : 'no drop loaded'
+}
+
+// ---- player's drops -----------------------------------------------------------
+
+async function listPlayer (playerId) {
+  if (!requireToken()) return
+  const body = byId('player-drops')
+  try {
+    const { drops } = await operatorGet(`/api/audit/drops${query({ player: playerId, limit: 200 })}`)
+    body.replaceChildren(...drops.map((d) => el('tr', { class: 'clickable', dataset: { dropId: String(d.id) }, title: 'look up and replay', onclick: () => lookupById(d.id) },
+      el('td', { text: `#${d.id}` }), el('td', { text: d.room }), el('td', { class: 'num', text: formatAmount(d.bet) }),
+      el('td', { class: 'num', text: d.bucket ?? '–' }), el('td', { class: 'num', text: formatAmount(d.payout) }),
+      el('td', { text: d.status }), el('td', { text: d.createdAt.replace('T', ' ').slice(0, 19) }))))
+    if (drops.length === 0) body.replaceChildren(el('tr', {}, el('td', { colspan: 7, class: 'note', text: 'No drops for this player.' })))
+  } catch (error) {
+    body.replaceChildren(el('tr', {}, el('td', { colspan: 7, class: 'note', text: error.message })))
+  }
+}
+
+// ---- room statistics ----------------------------------------------------------
+
+async function showStats (room) {
+  if (!requireToken()) return
+  if (state.stats.room !== room) {
+    state.stats.room = room
+    state.stats.samples = []
+  }
+  clearTimeout(state.stats.timer)
+  try {
+    const stats = await operatorGet(`/api/audit/rooms/${room}/stats`)
+    if (state.stats.room !== room) return
+    state.stats.last = stats
+    renderStats(stats)
+  } catch (error) {
+    byId('stats').replaceChildren(el('p', { class: 'note', text: error.message }))
+  }
+  if (state.token && state.stats.room === room) state.stats.timer = setTimeout(() => showStats(room), STATS_REFRESH_MS)
+}
+
+function stopStats () {
+  clearTimeout(state.stats.timer)
+  state.stats.room = null
+}
+
+function renderStats (stats) {
+  const perDrop = rtpStatistics(stats.bucketCounts, stats.multipliers)
+  const calibrated = CALIBRATION.rtp[stats.rows][stats.risk]
+  const samples = state.stats.samples
+  if (samples.length === 0 || samples[samples.length - 1].drops !== perDrop.drops) {
+    samples.push({ drops: perDrop.drops, rtp: perDrop.rtp, low: perDrop.ci95[0], high: perDrop.ci95[1] })
+  }
+  const percent = (v) => (v === null || !Number.isFinite(v) ? '–' : `${(v * 100).toFixed(2)}%`)
+  const live = stats.live ? `${stats.live.players} player(s) connected, ${stats.live.ballsInFlight} ball(s) in flight, tick ${stats.live.tick}` : 'room not open right now'
+  byId('stats').replaceChildren(
+    el('p', { class: 'stat-line', id: 'stats-summary', dataset: { settled: String(stats.settled) }, text: `${stats.room}: ${stats.settled} settled, ${stats.inFlight} in flight · ${live}` }),
+    el('p', { class: 'stat-line', text: `Wagered ${formatAmount(stats.totalBet)}, paid ${formatAmount(stats.totalPayout)} → RTP ${percent(stats.rtp)} of money wagered` }),
+    el('p', { class: 'stat-line', text: `Mean multiplier per drop ${percent(perDrop.rtp)} (95% CI ${percent(perDrop.ci95[0])} – ${percent(perDrop.ci95[1])}) · calibrated ${percent(calibrated)} on ${CALIBRATION.drops.toLocaleString('en-US')} simulated drops` }),
+    bucketChart(stats.bucketCounts, CALIBRATION.bucketCounts[stats.rows]),
+    legend([['measured share per bucket', CHART_COLORS.measured], ['calibrated share', CHART_COLORS.calibrated]]),
+    rtpChart(samples, calibrated),
+    legend([['measured RTP per drop, 95% band', CHART_COLORS.measured], ['calibrated RTP', CHART_COLORS.calibrated]])
+  )
+}
+
+// ---- set-up -------------------------------------------------------------------
+
+function setUp () {
+  for (const id of ['seed-rows', 'stats-rows']) {
+    const select = byId(id)
+    for (let r = MIN_ROWS; r <= MAX_ROWS; r++) select.append(el('option', { value: String(r), text: String(r), selected: r === 16 }))
+  }
+  byId('login-form').addEventListener('submit', (event) => {
+    event.preventDefault()
+    const token = byId('token').value.trim()
+    if (token) signIn(token)
+  })
+  byId('sign-out').addEventListener('click', signOut)
+  byId('id-form').addEventListener('submit', (event) => {
+    event.preventDefault()
+    const id = Number(byId('drop-id').value)
+    if (Number.isSafeInteger(id) && id > 0) lookupById(id)
+  })
+  byId('seeds-form').addEventListener('submit', (event) => {
+    event.preventDefault()
+    const nonce = Number(byId('seed-nonce').value)
+    const serverSeed = byId('seed-server').value
+    const clientSeed = byId('seed-client').value
+    if (!serverSeed || !clientSeed || !Number.isSafeInteger(nonce) || nonce < 0) {
+      say('Enter a server seed, a client seed and a nonce.', 'error')
+      return
+    }
+    lookupBySeeds({ serverSeed, clientSeed, nonce, rows: Number(byId('seed-rows').value), risk: byId('seed-risk').value })
+  })
+  byId('player-form').addEventListener('submit', (event) => {
+    event.preventDefault()
+    const id = byId('player-id').value.trim()
+    if (id) listPlayer(id)
+  })
+  byId('stats-form').addEventListener('submit', (event) => {
+    event.preventDefault()
+    showStats(`${byId('stats-rows').value}-${byId('stats-risk').value}`)
+  })
+  byId('play').addEventListener('click', () => player.toggle())
+  byId('step-back').addEventListener('click', () => player.step(-1))
+  byId('step-forward').addEventListener('click', () => player.step(1))
+  byId('speed').addEventListener('change', (event) => player.setSpeed(Number(event.target.value)))
+  byId('scrub').addEventListener('input', (event) => { player.pause(); player.seek(Number(event.target.value)) })
+  // Space: play/pause; arrows: one tick (with Shift: ten).
+  document.addEventListener('keydown', (event) => {
+    const target = event.target
+    if (!player.trajectory || (target instanceof HTMLElement && ['INPUT', 'TEXTAREA', 'SELECT', 'BUTTON'].includes(target.tagName))) return
+    if (event.code === 'Space') player.toggle()
+    else if (event.code === 'ArrowLeft' || event.code === 'ArrowRight') player.step((event.code === 'ArrowLeft' ? -1 : 1) * (event.shiftKey ? 10 : 1))
+    else return
+    event.preventDefault()
+  })
+  byId('footer-stats').textContent = `engine ${ENGINE_VERSION} · everything on this page is re-simulated in your browser`
+  // An empty board until a drop is loaded.
+  renderer.setBoard(createBoard({ rows: 16, risk: 'medium' }))
+  renderer.draw([], performance.now())
+}
+
+window.__audit = {
+  get signedIn () { return state.token !== null },
+  get lookups () { return state.lookups },
+  get replay () { return { tick: player.tick, ticks: player.ticks, playing: player.playing, bucket: player.bucket } },
+  get stats () { return state.stats.last },
+  get frames () { return renderer.frames },
+  lookupById,
+  lookupBySeeds
+}
+
+setUp()
+if (state.token) signIn(state.token)
+else showAuth(false, 'Enter the operator token (the server logs it at start when OPERATOR_TOKEN is not set).')

@@ -1,0 +1,114 @@
+/**
+ * The operator's charts, drawn as SVG with DOM calls (no markup strings):
+ * a room's bucket distribution against the calibrated one, and its
+ * measured RTP over time against the calibrated RTP.
+ */
+
+const SVG = 'http://www.w3.org/2000/svg'
+const COLORS = { measured: '#ff5a8a', calibrated: '#ffc400', band: 'rgba(255, 90, 138, 0.18)', axis: '#46518a', text: '#98a3cf' }
+
+function svg (tag, attributes = {}, ...children) {
+  const node = document.createElementNS(SVG, tag)
+  for (const [name, value] of Object.entries(attributes)) node.setAttribute(name, String(value))
+  for (const child of children) if (child) node.append(child)
+  return node
+}
+
+function text (x, y, content, attributes = {}) {
+  return svg('text', { x, y, fill: COLORS.text, 'font-size': 11, 'font-family': 'system-ui, sans-serif', ...attributes }, document.createTextNode(content))
+}
+
+/**
+ * Bars: share of the room's settled drops per bucket; markers: the share
+ * calibration predicts (CALIBRATION.bucketCounts).
+ * @param {number[]} counts settled drops per bucket
+ * @param {number[]} calibrated calibrated counts per bucket
+ * @returns {SVGSVGElement}
+ */
+export function bucketChart (counts, calibrated) {
+  const width = 560
+  const height = 220
+  const pad = { left: 40, right: 10, top: 12, bottom: 26 }
+  const total = counts.reduce((a, b) => a + b, 0)
+  const calibratedTotal = calibrated.reduce((a, b) => a + b, 0)
+  const measuredShare = counts.map((c) => (total === 0 ? 0 : c / total))
+  const expectedShare = calibrated.map((c) => c / calibratedTotal)
+  const top = Math.max(0.05, ...measuredShare, ...expectedShare) * 1.1
+  const plotW = width - pad.left - pad.right
+  const plotH = height - pad.top - pad.bottom
+  const band = plotW / counts.length
+  const y = (share) => pad.top + plotH * (1 - share / top)
+  const root = svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'bucket distribution, measured against calibrated' })
+  for (const share of [0, top / 2, top]) {
+    root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(share), y2: y(share), stroke: COLORS.axis, 'stroke-width': 1 }))
+    root.append(text(pad.left - 4, y(share) + 4, `${(share * 100).toFixed(1)}%`, { 'text-anchor': 'end' }))
+  }
+  counts.forEach((count, i) => {
+    const x = pad.left + i * band
+    const barTop = y(measuredShare[i])
+    root.append(svg('rect', { x: x + band * 0.15, y: barTop, width: band * 0.7, height: pad.top + plotH - barTop, fill: COLORS.measured, rx: 2 },
+      svg('title', {}, document.createTextNode(`bucket ${i}: ${count} drops (${(measuredShare[i] * 100).toFixed(2)}%), calibrated ${(expectedShare[i] * 100).toFixed(2)}%`))))
+    root.append(svg('line', { x1: x + band * 0.08, x2: x + band * 0.92, y1: y(expectedShare[i]), y2: y(expectedShare[i]), stroke: COLORS.calibrated, 'stroke-width': 2.5 }))
+    root.append(text(x + band / 2, height - 8, String(i), { 'text-anchor': 'middle' }))
+  })
+  return root
+}
+
+/**
+ * Measured RTP (per drop, with its 95% confidence band) at each refresh,
+ * against the calibrated RTP as a horizontal line.
+ * @param {{ drops: number, rtp: number, low: number, high: number }[]} samples oldest first
+ * @param {number} calibrated
+ * @returns {SVGSVGElement}
+ */
+export function rtpChart (samples, calibrated) {
+  const width = 560
+  const height = 200
+  const pad = { left: 48, right: 10, top: 12, bottom: 26 }
+  const plotW = width - pad.left - pad.right
+  const plotH = height - pad.top - pad.bottom
+  const points = samples.filter((s) => Number.isFinite(s.rtp))
+  const values = [calibrated, ...points.map((s) => s.rtp)]
+  for (const s of points) if (Number.isFinite(s.low)) values.push(s.low, s.high)
+  let min = Math.min(...values)
+  let max = Math.max(...values)
+  const span = Math.max(0.05, max - min)
+  min -= span * 0.1
+  max += span * 0.1
+  const maxDrops = Math.max(1, ...points.map((s) => s.drops))
+  const x = (drops) => pad.left + plotW * (drops / maxDrops)
+  const y = (value) => pad.top + plotH * (1 - (value - min) / (max - min))
+  const root = svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'measured RTP against calibrated RTP' })
+  for (const value of [min, (min + max) / 2, max]) {
+    root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(value), y2: y(value), stroke: COLORS.axis, 'stroke-width': 1 }))
+    root.append(text(pad.left - 4, y(value) + 4, `${(value * 100).toFixed(1)}%`, { 'text-anchor': 'end' }))
+  }
+  root.append(text(width - pad.right, height - 8, `${maxDrops} settled drops`, { 'text-anchor': 'end' }))
+  if (points.length > 0) {
+    const upper = points.filter((s) => Number.isFinite(s.high)).map((s) => `${x(s.drops)},${y(s.high)}`)
+    const lower = points.filter((s) => Number.isFinite(s.low)).map((s) => `${x(s.drops)},${y(s.low)}`).reverse()
+    if (upper.length > 1) root.append(svg('polygon', { points: [...upper, ...lower].join(' '), fill: COLORS.band }))
+    root.append(svg('polyline', { points: points.map((s) => `${x(s.drops)},${y(s.rtp)}`).join(' '), fill: 'none', stroke: COLORS.measured, 'stroke-width': 2 }))
+    const last = points[points.length - 1]
+    root.append(svg('circle', { cx: x(last.drops), cy: y(last.rtp), r: 3.5, fill: COLORS.measured }))
+  }
+  root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(calibrated), y2: y(calibrated), stroke: COLORS.calibrated, 'stroke-width': 2, 'stroke-dasharray': '6 4' }))
+  root.append(text(pad.left + 4, y(calibrated) - 5, `calibrated ${(calibrated * 100).toFixed(2)}%`, { fill: COLORS.calibrated }))
+  return root
+}
+
+/** A legend row: [label, colour] pairs. @param {[string, string][]} items */
+export function legend (items) {
+  const row = document.createElement('div')
+  row.className = 'legend'
+  for (const [label, color] of items) {
+    const item = document.createElement('span')
+    const swatch = document.createElement('i')
+    swatch.style.background = color
+    item.append(swatch, label)
+    row.append(item)
+  }
+  return row
+}
+
+export const CHART_COLORS = COLORS

@@ -1,0 +1,134 @@
+import Fastify from 'fastify'
+import helmet from '@fastify/helmet'
+import rateLimit from '@fastify/rate-limit'
+import websocket from '@fastify/websocket'
+import { Arena } from './arena.js'
+import { GameError, gameError } from './errors.js'
+import { createMetrics } from './metrics.js'
+import { openStore } from './store/open-store.js'
+import { settleInterruptedDrops } from './ledger/recovery.js'
+import sessionRoutes from './routes/session.js'
+import seedRoutes from './routes/seeds.js'
+import dropRoutes from './routes/drops.js'
+import roomRoutes from './routes/rooms.js'
+import auditRoutes from './routes/audit.js'
+import metricsRoutes from './routes/metrics.js'
+import healthRoutes from './routes/health.js'
+import realtimeRoutes from './routes/realtime.js'
+import clientRoutes from './routes/client.js'
+import clientAssetRoutes, { inlineScriptHashes } from './routes/client-assets.js'
+
+/**
+ * Builds the whole server without listening: tests drive it with
+ * app.inject() or listen on port 0; server.js listens on the configured
+ * port. Opens (and migrates) the ledger, settles drops a previous process
+ * left in flight, then wires the arena and the routes. The 60 Hz clock
+ * starts when the app is ready and stops (after settling every ball in
+ * flight) when it closes.
+ * @param {import('./config.js').Config} config
+ * @param {object} [options]
+ * @param {any} [options.store] an opened, migrated store (default: from config.database); the app closes it
+ * @param {number} [options.tickRate] wall-clock ticks per second (default 60; tests may run faster —
+ *   the simulation still advances 1/60 s per tick, so outcomes are unchanged)
+ * @param {object} [options.logger] fastify logger options, or false
+ */
+export async function buildApp (config, options = {}) {
+  const app = Fastify({
+    logger: options.logger ?? {
+      level: config.logLevel,
+      redact: ['req.headers.authorization'],
+      serializers: { req: (request) => ({ method: request.method, url: redactToken(request.url), remoteAddress: request.ip }) }
+    },
+    trustProxy: config.trustProxy,
+    bodyLimit: 16 * 1024,
+    // Extra properties are an error, never silently dropped.
+    ajv: { customOptions: { removeAdditional: false } }
+  })
+
+  const store = options.store ?? await openStore(config.database)
+  try {
+    await settleInterruptedDrops(store, app.log)
+  } catch (error) {
+    await store.close().catch(() => {})
+    throw error
+  }
+  const metrics = createMetrics()
+  const arena = new Arena({ config, store, metrics, log: app.log, firstDropId: (await store.maxDropId()) + 1, tickRate: options.tickRate })
+  app.decorate('arena', arena)
+
+  if (config.operatorTokenGenerated) {
+    app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
+  }
+
+  app.setErrorHandler(replyWithError)
+  app.setNotFoundHandler((request, reply) => {
+    reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
+  })
+
+  await app.register(helmet, {
+    contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
+  })
+  await app.register(rateLimit, {
+    max: config.httpRateLimit,
+    timeWindow: 60_000,
+    errorResponseBuilder: (request, context) => gameError('E_RATE_LIMITED', `rate limit exceeded; retry in ${context.after}`)
+  })
+  await app.register(websocket, {
+    options: { maxPayload: config.wsMaxPayload },
+    // Settle every ball in flight and say goodbye before the sockets go;
+    // sockets that never authenticated are closed too, or close would wait for them.
+    preClose (done) {
+      const wss = this.websocketServer
+      arena.close().then(() => {
+        for (const socket of wss.clients) socket.close(1001, 'server shutting down')
+        wss.close(() => done())
+      }, done)
+    }
+  })
+
+  await app.register(sessionRoutes, { arena })
+  await app.register(seedRoutes, { arena })
+  await app.register(dropRoutes, { arena })
+  await app.register(roomRoutes, { arena })
+  await app.register(healthRoutes, { arena })
+  await app.register(realtimeRoutes, { arena })
+  await app.register(metricsRoutes, { metrics })
+  await app.register(auditRoutes, { arena })
+  await app.register(clientRoutes, { clientDir: config.clientDir })
+  await app.register(clientAssetRoutes)
+
+  app.addHook('onReady', async () => arena.start())
+  app.addHook('onClose', async () => {
+    arena.scheduler.stop()
+    await store.close()
+  })
+  return app
+}
+
+/** HTTP errors as `{ code, message }`: named codes keep their status, bad input is a 4xx, never a 500. */
+function replyWithError (error, request, reply) {
+  if (error instanceof GameError) {
+    if (error.statusCode >= 500) request.log.error({ err: error }, error.message)
+    reply.code(error.statusCode).send({ code: error.code, message: error.message })
+    return
+  }
+  if (error.validation) {
+    const first = error.validation[0]
+    const code = error.validationContext === 'body' && first?.instancePath === '/clientSeed' ? 'E_BAD_SEED' : 'E_BAD_REQUEST'
+    reply.code(400).send({ code, message: error.message })
+    return
+  }
+  const status = error.statusCode
+  if (Number.isInteger(status) && status >= 400 && status < 500) {
+    const code = status === 401 ? 'E_UNAUTHORIZED' : status === 403 ? 'E_FORBIDDEN' : status === 404 ? 'E_NOT_FOUND' : status === 429 ? 'E_RATE_LIMITED' : 'E_BAD_REQUEST'
+    reply.code(status).send({ code, message: error.message })
+    return
+  }
+  request.log.error({ err: error }, 'request failed')
+  reply.code(500).send({ code: 'E_INTERNAL', message: 'internal error' })
+}
+
+/** Session tokens ride in the WebSocket URL; keep them out of logs. @param {string} url */
+export function redactToken (url) {
+  return url.replace(/([?&]token=)[^&]*/gi, '$1[redacted]')
+}

@@ -1,0 +1,342 @@
+import { ENGINE_VERSION } from '../engine/index.js'
+import { AccountBook } from './ledger/accounts.js'
+import { GroupCommit } from './ledger/group-commit.js'
+import { RoomRegistry } from './rooms/room-registry.js'
+import { TickScheduler } from './rooms/tick-scheduler.js'
+import { deriveDropSeed, isValidClientSeed } from './fairness/seeds.js'
+import { payoutFor } from './fairness/payout.js'
+import { gameError } from './errors.js'
+
+/** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
+const MAX_SETTLE_ATTEMPTS = 5
+/** Ping every connection this often (in ticks) and drop those that did not answer the last ping. */
+const HEARTBEAT_TICKS = 30 * 60
+
+/**
+ * @typedef {object} Drop one bet on one ball, from acceptance to settlement
+ * @property {number} id @property {import('./ledger/accounts.js').Account} account
+ * @property {string} playerId @property {import('./rooms/room.js').Room} room
+ * @property {string} roomId @property {number} rows @property {string} risk
+ * @property {string} engineVersion @property {string} seedId @property {string} serverSeedHash
+ * @property {string} clientSeed @property {number} nonce @property {string} dropSeed
+ * @property {number} bet @property {number} createdAt ms
+ * @property {number} startTick @property {number} slot set by Room.release
+ * @property {boolean} announced its row is committed and `dropped` was sent
+ * @property {boolean} void its row could not be committed: ignored when it lands
+ * @property {{ previous: string } | null} clientSeedChange the drop set a new client seed
+ * @property {any} ref the client's ref, echoed to the connection that asked
+ * @property {import('./realtime/connection.js').Connection | null} origin
+ */
+
+/**
+ * The game: rooms on one clock, player accounts, and the ledger that
+ * records every drop before it is announced. Each tick steps every room,
+ * seals the tick's ledger batch and broadcasts the snapshots that are due.
+ */
+export class Arena {
+  /**
+   * @param {object} options
+   * @param {import('./config.js').Config} options.config
+   * @param {any} options.store the ledger store (see store/sqlite-store.js)
+   * @param {import('./metrics.js').Metrics} options.metrics
+   * @param {import('pino').Logger} options.log
+   * @param {number} options.firstDropId ids continue from the ledger's highest
+   * @param {number} [options.tickRate] wall-clock ticks per second (60; tests may run faster)
+   */
+  constructor ({ config, store, metrics, log, firstDropId, tickRate = 60 }) {
+    this.config = config
+    this.store = store
+    this.metrics = metrics
+    this.log = log
+    this.nextDropId = firstDropId
+    this.accepting = true
+    this.accounts = new AccountBook({ store, limits: { dropRate: config.dropRate, dropBurst: config.dropBurst } })
+    this.rooms = new RoomRegistry({
+      snapshotEvery: 60 / config.snapshotHz,
+      onChange: () => metrics.rooms.set(this.rooms.size)
+    })
+    this.ledger = new GroupCommit({
+      store,
+      metrics,
+      log,
+      onCommitted: (batch) => this._committed(batch),
+      onFailed: (batch, error) => this._failed(batch, error)
+    })
+    this.scheduler = new TickScheduler({ onTick: () => this.tick(), tickRate, maxCatchUp: config.maxCatchUpTicks, metrics, log })
+    /** @type {Set<import('./realtime/connection.js').Connection>} */
+    this.connections = new Set()
+    this._onLanded = (drop, landed, tick) => this._landed(drop, landed, tick)
+  }
+
+  start () {
+    this.scheduler.start()
+  }
+
+  /** One 60 Hz tick for every room. */
+  tick () {
+    let inFlight = 0
+    for (const room of this.rooms.values()) {
+      try {
+        room.step(this._onLanded)
+      } catch (error) {
+        // One broken room must not stop the others (they come after it in this loop).
+        this.log.error({ err: error, room: room.id }, 'room step failed')
+      }
+      inFlight += room.ballsInFlight
+    }
+    this.ledger.flush()
+    for (const room of this.rooms.values()) {
+      if (room.clients.size === 0 || !room.snapshotDue) continue
+      const frame = room.encodeSnapshot()
+      if (frame === null) continue
+      for (const client of room.clients) client.sendSnapshot(frame)
+    }
+    this.rooms.disposeIdle()
+    this.metrics.ballsInFlight.set(inFlight)
+    if (this.scheduler.ticks % HEARTBEAT_TICKS === HEARTBEAT_TICKS - 1) {
+      for (const connection of this.connections) connection.heartbeat()
+    }
+  }
+
+  // ---- connections and rooms ------------------------------------------
+
+  /** @param {import('./realtime/connection.js').Connection} connection */
+  connected (connection) {
+    this.connections.add(connection)
+    this.metrics.clients.set(this.connections.size)
+  }
+
+  /** @param {import('./realtime/connection.js').Connection} connection */
+  disconnected (connection) {
+    if (connection.room) this.leave(connection)
+    this.connections.delete(connection)
+    this.metrics.clients.set(this.connections.size)
+  }
+
+  /**
+   * @param {import('./realtime/connection.js').Connection} connection
+   * @param {unknown} roomId
+   * @returns {object} the `joined` message
+   */
+  join (connection, roomId) {
+    if (!this.accepting) throw gameError('E_UNAVAILABLE')
+    const room = this.rooms.getOrCreate(roomId)
+    if (connection.room && connection.room !== room) this.leave(connection)
+    room.clients.add(connection)
+    connection.room = room
+    return {
+      type: 'joined',
+      room: room.id,
+      board: room.board,
+      tick: room.tick,
+      tickRate: 60,
+      snapshotEvery: room.snapshotEvery,
+      engineVersion: ENGINE_VERSION,
+      balls: room.ballStates()
+    }
+  }
+
+  /** @param {import('./realtime/connection.js').Connection} connection */
+  leave (connection) {
+    const room = connection.room
+    if (!room) throw gameError('E_NOT_IN_ROOM', 'not in a room')
+    room.clients.delete(connection)
+    connection.room = null
+    return room.id
+  }
+
+  // ---- drops ------------------------------------------------------------
+
+  /**
+   * Accepts a drop: takes the player's next nonce, derives the drop seed,
+   * reserves the bet and releases the ball at the room's current tick. The
+   * drop is recorded by the tick's group commit and announced only after it.
+   * Throws a GameError (and changes nothing) when the drop is refused.
+   * @param {import('./realtime/connection.js').Connection} connection
+   * @param {{ bet: number, clientSeed?: string, ref?: any }} request
+   */
+  drop (connection, { bet, clientSeed, ref }) {
+    if (!this.accepting) throw gameError('E_UNAVAILABLE')
+    const room = connection.room
+    if (!room) throw gameError('E_NOT_IN_ROOM')
+    const { minBet, maxBet } = this.config
+    if (!Number.isSafeInteger(bet) || bet < minBet || bet > maxBet) throw gameError('E_BAD_BET', `bet must be an integer from ${minBet} to ${maxBet}`)
+    if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
+    const account = connection.account
+    if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
+    if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
+    if (bet > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${account.available} is lower than the bet ${bet}`)
+
+    let clientSeedChange = null
+    if (clientSeed !== undefined && clientSeed !== account.clientSeed) {
+      clientSeedChange = { previous: account.clientSeed }
+      account.clientSeed = clientSeed
+    }
+    const seed = account.seed
+    const nonce = seed.nextNonce++ // never given back, even if the drop fails to commit
+    /** @type {Drop} */
+    const drop = {
+      id: this.nextDropId++,
+      account,
+      playerId: account.playerId,
+      room,
+      roomId: room.id,
+      rows: room.rows,
+      risk: room.risk,
+      engineVersion: ENGINE_VERSION,
+      seedId: seed.id,
+      serverSeedHash: seed.hash,
+      clientSeed: account.clientSeed,
+      nonce,
+      dropSeed: deriveDropSeed(seed.seed, account.clientSeed, nonce),
+      bet,
+      createdAt: Date.now(),
+      startTick: 0,
+      slot: -1,
+      announced: false,
+      void: false,
+      clientSeedChange,
+      ref,
+      origin: connection
+    }
+    account.reserved += bet
+    this.accounts.retain(account)
+    room.release(drop)
+    this.ledger.addDrop(drop)
+    return drop
+  }
+
+  _landed (drop, landed, tick) {
+    this.ledger.addSettlement({
+      drop,
+      bucket: landed.bucket,
+      multiplier: landed.multiplier,
+      payout: payoutFor(drop.bet, landed.multiplier),
+      ticks: landed.ticks,
+      stateHash: landed.stateHash,
+      tick,
+      settledAt: Date.now(),
+      attempts: 0
+    })
+  }
+
+  /** A batch is durable: apply it to the accounts and tell the rooms. */
+  _committed ({ drops, settlements }) {
+    for (const drop of drops) {
+      const account = drop.account
+      account.reserved -= drop.bet
+      account.balance -= drop.bet
+      drop.announced = true
+      drop.room.show(drop)
+      this.metrics.drops.inc()
+      this.metrics.betTotal.inc(drop.bet)
+      this._broadcast(drop, {
+        type: 'dropped',
+        room: drop.roomId,
+        dropId: drop.id,
+        player: drop.playerId,
+        serverSeedHash: drop.serverSeedHash,
+        clientSeed: drop.clientSeed,
+        nonce: drop.nonce,
+        dropSeed: drop.dropSeed,
+        startTick: drop.startTick,
+        bet: drop.bet,
+        slot: drop.slot
+      }, account.balance)
+    }
+    for (const settlement of settlements) {
+      const { drop, payout } = settlement
+      const account = drop.account
+      account.balance += payout
+      this.accounts.release(account)
+      this.metrics.settles.inc()
+      this.metrics.payoutTotal.inc(payout)
+      this._broadcast(drop, {
+        type: 'settled',
+        room: drop.roomId,
+        dropId: drop.id,
+        player: drop.playerId,
+        bet: drop.bet,
+        bucket: settlement.bucket,
+        multiplier: settlement.multiplier,
+        payout,
+        ticks: settlement.ticks,
+        tick: settlement.tick,
+        stateHash: settlement.stateHash
+      }, account.balance)
+    }
+  }
+
+  /** A batch was rolled back: refuse its drops (nothing was debited) and retry its settlements. */
+  _failed ({ drops, settlements }, error) {
+    this.log.error({ err: error, drops: drops.length, settlements: settlements.length }, 'ledger commit failed')
+    for (let i = drops.length - 1; i >= 0; i--) {
+      const drop = drops[i]
+      const account = drop.account
+      drop.room.discard(drop)
+      account.reserved -= drop.bet
+      if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
+      this.accounts.release(account)
+      this._sendToOwner(drop, 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
+    }
+    for (const settlement of settlements) {
+      if (++settlement.attempts < MAX_SETTLE_ATTEMPTS) {
+        this.ledger.addSettlement(settlement)
+        continue
+      }
+      // Left in flight in the ledger: start-up recovery settles it from its seed.
+      this.log.error({ dropId: settlement.drop.id }, 'giving up settling drop until restart')
+      this.accounts.release(settlement.drop.account)
+      this._sendToOwner(settlement.drop, 'E_INTERNAL', 'the settlement is delayed; it will be credited when the server restarts')
+    }
+  }
+
+  /**
+   * Sends a drop event to everyone in its room and to all of the owner's
+   * connections; only the owner's copy carries the balance, and only the
+   * connection that asked gets its `ref` back.
+   */
+  _broadcast (drop, message, balance) {
+    const account = drop.account
+    const everyone = JSON.stringify(message)
+    const owner = JSON.stringify({ ...message, balance })
+    const type = message.type
+    for (const client of drop.room.clients) {
+      if (client.account !== account) client.sendEvent(everyone, type)
+    }
+    for (const client of account.connections) {
+      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
+      else client.sendEvent(owner, type)
+    }
+  }
+
+  _sendToOwner (drop, code, message) {
+    for (const client of drop.account.connections) {
+      client.sendError(code, message, client === drop.origin ? drop.ref : undefined)
+    }
+  }
+
+  // ---- shutdown -----------------------------------------------------------
+
+  /** Stops taking joins and drops (they get E_UNAVAILABLE). */
+  stopAccepting () {
+    this.accepting = false
+  }
+
+  /**
+   * Graceful shutdown: no new drops; every ball in flight is played to the
+   * end at once (its outcome is fixed by its seed), settled and committed;
+   * then all connections are closed with 1001 (going away).
+   */
+  async close () {
+    this.stopAccepting()
+    this.scheduler.stop()
+    let guard = 0
+    while ([...this.rooms.values()].some((room) => room.ballsInFlight > 0) && guard++ < 100_000) {
+      for (const room of this.rooms.values()) if (room.ballsInFlight > 0) room.step(this._onLanded)
+      this.ledger.flush()
+    }
+    await this.ledger.drain()
+    for (const connection of [...this.connections]) connection.close(1001, 'server shutting down')
+  }
+}

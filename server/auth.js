@@ -1,0 +1,58 @@
+import { createHash, timingSafeEqual } from 'node:crypto'
+import { gameError } from './errors.js'
+
+/** Session tokens are 32 random bytes in hex; anything else is refused before a lookup. */
+const TOKEN_PATTERN = /^[0-9a-f]{64}$/
+
+/** The database keeps only this digest of a session token. @param {string} token */
+export function hashToken (token) {
+  return createHash('sha256').update(token).digest('hex')
+}
+
+/** @param {import('fastify').FastifyRequest} request @returns {string | null} */
+export function bearerToken (request) {
+  const header = request.headers.authorization
+  if (typeof header !== 'string') return null
+  const match = /^Bearer\s+(\S+)\s*$/i.exec(header)
+  return match ? match[1] : null
+}
+
+/**
+ * The player a session token belongs to, or null.
+ * @param {{ findPlayerIdByTokenHash: (hash: string) => Promise<string | null> }} store
+ * @param {unknown} token
+ */
+export async function playerIdForToken (store, token) {
+  if (typeof token !== 'string' || !TOKEN_PATTERN.test(token)) return null
+  return store.findPlayerIdByTokenHash(hashToken(token))
+}
+
+/**
+ * preHandler for the operator API. The tokens are compared as SHA-256
+ * digests with timingSafeEqual: equal lengths whatever the input, and no
+ * early exit that would leak how much of a guess was right.
+ * Missing token → 401 E_UNAUTHORIZED; wrong token → 403 E_FORBIDDEN.
+ * @param {string} operatorToken
+ */
+export function requireOperator (operatorToken) {
+  const expected = createHash('sha256').update(operatorToken).digest()
+  return async function operatorOnly (request) {
+    const token = bearerToken(request)
+    if (token === null) throw gameError('E_UNAUTHORIZED', 'operator token required: Authorization: Bearer OPERATOR_TOKEN')
+    const given = createHash('sha256').update(token).digest()
+    if (!timingSafeEqual(given, expected)) throw gameError('E_FORBIDDEN', 'wrong operator token')
+  }
+}
+
+/**
+ * preHandler for player routes: sets request.playerId from the bearer token.
+ * @param {{ findPlayerIdByTokenHash: (hash: string) => Promise<string | null> }} store
+ */
+export function requirePlayer (store) {
+  return async function playerOnly (request) {
+    const token = bearerToken(request)
+    const playerId = await playerIdForToken(store, token)
+    if (!playerId) throw gameError('E_UNAUTHORIZED', token === null ? 'session token required: Authorization: Bearer TOKEN (POST /api/session creates one)' : 'unknown session token')
+    request.playerId = playerId
+  }
+}

@@ -1,0 +1,160 @@
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
+const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
+/** Snapshot rates that divide the 60 Hz tick evenly, so snapshots are exactly periodic. */
+const SNAPSHOT_RATES = [1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60]
+
+/**
+ * Every environment variable the server reads, with its default and rule.
+ * The README's configuration table is generated from this list by hand:
+ * keep them in step.
+ */
+const VARIABLES = {
+  PORT: { default: '8080', parse: integer(0, 65535) },
+  HOST: { default: '0.0.0.0', parse: nonEmpty },
+  DATABASE_URL: { default: '', parse: databaseUrl, secret: true },
+  OPERATOR_TOKEN: { default: '', parse: operatorToken, secret: true },
+  SNAPSHOT_HZ: { default: '20', parse: oneOf(SNAPSHOT_RATES.map(String), Number) },
+  STARTING_BALANCE: { default: '100000', parse: integer(0, Number.MAX_SAFE_INTEGER) },
+  MIN_BET: { default: '1', parse: integer(1, Number.MAX_SAFE_INTEGER) },
+  MAX_BET: { default: '1000000', parse: integer(1, Number.MAX_SAFE_INTEGER) },
+  LOG_LEVEL: { default: 'info', parse: oneOf(LOG_LEVELS) },
+  DROP_RATE: { default: '20', parse: integer(1, 10000) },
+  DROP_BURST: { default: '20', parse: integer(1, 10000) },
+  MAX_BALLS_PER_ROOM: { default: '500', parse: integer(1, 4096) },
+  WS_MAX_PAYLOAD: { default: '4096', parse: integer(256, 1048576) },
+  WS_SOFT_BUFFER: { default: '65536', parse: integer(1, 1 << 30) },
+  WS_HARD_BUFFER: { default: '1048576', parse: integer(1, 1 << 30) },
+  MAX_CATCH_UP_TICKS: { default: '10', parse: integer(1, 600) },
+  HTTP_RATE_LIMIT: { default: '600', parse: integer(1, 1e9) },
+  SESSION_RATE_LIMIT: { default: '30', parse: integer(1, 1e9) },
+  TRUST_PROXY: { default: 'false', parse: oneOf(['true', 'false'], (v) => v === 'true') },
+  CLIENT_DIR: { default: path.join(ROOT, 'client'), parse: (v) => path.resolve(nonEmpty(v)) }
+}
+
+/**
+ * @typedef {object} Config
+ * @property {number} port @property {string} host
+ * @property {{ kind: 'sqlite', file: string } | { kind: 'postgres', url: string }} database
+ * @property {string} operatorToken @property {boolean} operatorTokenGenerated
+ * @property {number} snapshotHz @property {number} startingBalance
+ * @property {number} minBet @property {number} maxBet @property {string} logLevel
+ * @property {number} dropRate drops per second per player (token bucket refill)
+ * @property {number} dropBurst token bucket capacity
+ * @property {number} maxBallsPerRoom @property {number} wsMaxPayload
+ * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
+ * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
+ * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
+ * @property {number} sessionRateLimit new sessions per IP per minute
+ * @property {boolean} trustProxy @property {string} clientDir
+ */
+
+export class ConfigError extends Error {
+  /** @param {string[]} problems */
+  constructor (problems) {
+    super('invalid configuration:\n  ' + problems.join('\n  '))
+    this.name = 'ConfigError'
+    this.problems = problems
+  }
+}
+
+/**
+ * Reads and validates the configuration; throws one ConfigError listing
+ * every problem, so an operator fixes them all in one go.
+ * @param {Record<string, string | undefined>} [env]
+ * @returns {Readonly<Config>}
+ */
+export function loadConfig (env = process.env) {
+  const problems = []
+  const values = {}
+  for (const [name, spec] of Object.entries(VARIABLES)) {
+    const raw = env[name] === undefined || env[name] === '' ? spec.default : env[name]
+    try {
+      values[name] = spec.parse(raw)
+    } catch (error) {
+      // Secrets are never echoed, even when invalid.
+      const shown = spec.secret ? '(value hidden)' : JSON.stringify(env[name])
+      problems.push(`${name}=${shown}: ${error.message}`)
+    }
+  }
+  if (problems.length === 0 && values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
+  if (problems.length === 0 && values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  if (problems.length > 0) throw new ConfigError(problems)
+
+  const generated = values.OPERATOR_TOKEN === ''
+  return Object.freeze({
+    port: values.PORT,
+    host: values.HOST,
+    database: values.DATABASE_URL ?? { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') },
+    operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
+    operatorTokenGenerated: generated,
+    snapshotHz: values.SNAPSHOT_HZ,
+    startingBalance: values.STARTING_BALANCE,
+    minBet: values.MIN_BET,
+    maxBet: values.MAX_BET,
+    logLevel: values.LOG_LEVEL,
+    dropRate: values.DROP_RATE,
+    dropBurst: values.DROP_BURST,
+    maxBallsPerRoom: values.MAX_BALLS_PER_ROOM,
+    wsMaxPayload: values.WS_MAX_PAYLOAD,
+    wsSoftBuffer: values.WS_SOFT_BUFFER,
+    wsHardBuffer: values.WS_HARD_BUFFER,
+    maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
+    httpRateLimit: values.HTTP_RATE_LIMIT,
+    sessionRateLimit: values.SESSION_RATE_LIMIT,
+    trustProxy: values.TRUST_PROXY,
+    clientDir: values.CLIENT_DIR
+  })
+}
+
+/** Names of all variables, for documentation and tests. */
+export const CONFIG_VARIABLES = Object.freeze(Object.keys(VARIABLES))
+
+function randomToken () {
+  const bytes = new Uint8Array(32)
+  globalThis.crypto.getRandomValues(bytes)
+  return Buffer.from(bytes).toString('hex')
+}
+
+function integer (min, max) {
+  return (raw) => {
+    if (!/^-?\d+$/.test(raw.trim())) throw new Error(`must be an integer from ${min} to ${max}`)
+    const value = Number(raw)
+    if (!Number.isSafeInteger(value) || value < min || value > max) throw new Error(`must be an integer from ${min} to ${max}`)
+    return value
+  }
+}
+
+function oneOf (allowed, map = (v) => v) {
+  return (raw) => {
+    if (!allowed.includes(raw)) throw new Error(`must be one of ${allowed.join(', ')}`)
+    return map(raw)
+  }
+}
+
+function nonEmpty (raw) {
+  if (raw.trim() === '') throw new Error('must not be empty')
+  return raw
+}
+
+function operatorToken (raw) {
+  if (raw !== '' && raw.length < 16) throw new Error('must be at least 16 characters (or unset to generate one)')
+  return raw
+}
+
+/** '' → default SQLite file; sqlite:PATH; postgres://… or postgresql://… */
+function databaseUrl (raw) {
+  if (raw === '') return undefined
+  if (raw.startsWith('sqlite:')) {
+    const file = raw.slice('sqlite:'.length)
+    if (file === '') throw new Error('sqlite: needs a file path, e.g. sqlite:./data/plinko.sqlite')
+    return { kind: 'sqlite', file: file === ':memory:' ? file : path.resolve(file) }
+  }
+  if (/^postgres(ql)?:\/\//.test(raw)) {
+    try { new URL(raw) } catch { throw new Error('is not a valid postgres:// URL') } // eslint-disable-line no-new
+    return { kind: 'postgres', url: raw }
+  }
+  throw new Error('must be sqlite:PATH or postgres://user:password@host:port/database')
+}

@@ -1,0 +1,47 @@
+/**
+ * Every error the server reports, by name, in one place (after fastify's
+ * lib/errors.js). HTTP replies carry `{ code, message }` with `status`;
+ * WebSocket replies carry `{ type: "error", code, message, ref? }` and the
+ * connection stays open unless the code's `close` says otherwise.
+ */
+export const ERROR_CODES = Object.freeze({
+  E_BAD_MESSAGE: { status: 400, message: 'message is not valid JSON or does not match its schema' },
+  E_UNKNOWN_TYPE: { status: 400, message: 'unknown message type' },
+  E_BAD_REQUEST: { status: 400, message: 'request does not match its schema' },
+  E_BAD_BET: { status: 400, message: 'bet must be an integer within the table limits' },
+  E_BAD_SEED: { status: 400, message: 'client seed must be 1 to 64 printable ASCII characters' },
+  E_INSUFFICIENT_FUNDS: { status: 400, message: 'balance is lower than the bet' },
+  E_NOT_IN_ROOM: { status: 400, message: 'join a room first' },
+  E_UNKNOWN_ROOM: { status: 404, message: 'no such room; room ids are ROWS-RISK with rows 8..16 and risk low, medium or high' },
+  E_ROOM_FULL: { status: 409, message: 'too many balls in flight in this room; try again shortly' },
+  E_RATE_LIMITED: { status: 429, message: 'too many requests; slow down' },
+  E_UNAUTHORIZED: { status: 401, message: 'missing or invalid token', close: 4401 },
+  E_FORBIDDEN: { status: 403, message: 'not allowed' },
+  E_NOT_FOUND: { status: 404, message: 'not found' },
+  E_SLOW_CONSUMER: { status: 503, message: 'client is not reading fast enough', close: 1013 },
+  E_UNAVAILABLE: { status: 503, message: 'server is shutting down' },
+  E_INTERNAL: { status: 500, message: 'internal error' }
+})
+
+/** A named, expected failure: its code decides the HTTP status and the protocol reply. */
+export class GameError extends Error {
+  /**
+   * @param {keyof typeof ERROR_CODES} code
+   * @param {string} [message] more specific than the default
+   * @param {{ ref?: any, cause?: unknown }} [extra]
+   */
+  constructor (code, message, extra = {}) {
+    const known = ERROR_CODES[code]
+    if (!known) throw new TypeError(`unknown error code ${code}`)
+    super(message ?? known.message, extra.cause === undefined ? undefined : { cause: extra.cause })
+    this.name = 'GameError'
+    this.code = code
+    this.statusCode = known.status
+    if (extra.ref !== undefined) this.ref = extra.ref
+  }
+}
+
+/** @param {keyof typeof ERROR_CODES} code @param {string} [message] @param {object} [extra] */
+export function gameError (code, message, extra) {
+  return new GameError(code, message, extra)
+}

@@ -1,0 +1,84 @@
+import { TokenBucket } from './token-bucket.js'
+
+/**
+ * A player's money and fairness state while the server works with it.
+ * `balance` is the committed balance (what the database holds once every
+ * queued batch is written); `reserved` is the sum of bets accepted but not
+ * yet committed, so `available` can never promise credits twice. Credits
+ * become available when their settlement commits, never before.
+ */
+export class Account {
+  /**
+   * @param {{ playerId: string, balance: number, clientSeed: string, createdAt: number,
+   *   seed: { id: string, seed: string, hash: string, nextNonce: number } }} state
+   * @param {{ dropRate: number, dropBurst: number }} limits
+   */
+  constructor (state, limits) {
+    this.playerId = state.playerId
+    this.balance = state.balance
+    this.reserved = 0
+    this.clientSeed = state.clientSeed
+    this.createdAt = state.createdAt
+    /** The active server seed; `nextNonce` is taken (and never given back) when a drop is accepted. */
+    this.seed = state.seed
+    this.dropLimiter = new TokenBucket({ rate: limits.dropRate, burst: limits.dropBurst })
+    /** @type {Set<import('../realtime/connection.js').Connection>} */
+    this.connections = new Set()
+    /** Reasons to keep this object in memory: connections, requests, drops in flight. */
+    this.holds = 0
+  }
+
+  get available () { return this.balance - this.reserved }
+}
+
+/**
+ * The one in-memory Account per player. Accounts are loaded on first use
+ * and kept while anything holds them (a connection, an HTTP request, a drop
+ * in flight or being written), so two copies of one player's balance can
+ * never exist in the process. One process owns a database's players.
+ */
+export class AccountBook {
+  /** @param {{ store: any, limits: { dropRate: number, dropBurst: number } }} options */
+  constructor ({ store, limits }) {
+    this.store = store
+    this.limits = limits
+    /** @type {Map<string, Account>} */
+    this.accounts = new Map()
+    this.loading = new Map()
+  }
+
+  /**
+   * Loads (or finds) a player's account and holds it. Release it when done.
+   * @param {string} playerId
+   * @returns {Promise<Account | null>} null if the player does not exist
+   */
+  async acquire (playerId) {
+    const cached = this.accounts.get(playerId)
+    if (cached) { cached.holds++; return cached }
+    let loading = this.loading.get(playerId)
+    if (!loading) {
+      loading = this.store.loadAccount(playerId).finally(() => this.loading.delete(playerId))
+      this.loading.set(playerId, loading)
+    }
+    const state = await loading
+    if (!state) return null
+    // Everyone awaiting the same load resumes here in turn: the first creates the account.
+    let account = this.accounts.get(playerId)
+    if (!account) this.accounts.set(playerId, (account = new Account(state, this.limits)))
+    account.holds++
+    return account
+  }
+
+  /** Adds a hold on an account already in memory. @param {Account} account */
+  retain (account) {
+    account.holds++
+  }
+
+  /** @param {Account} account */
+  release (account) {
+    if (account.holds <= 0) throw new Error(`account ${account.playerId} released more often than held`)
+    if (--account.holds === 0 && this.accounts.get(account.playerId) === account) this.accounts.delete(account.playerId)
+  }
+
+  get size () { return this.accounts.size }
+}

@@ -1,0 +1,45 @@
+import { ENGINE_VERSION, simulateDrop } from '../../engine/index.js'
+import { boardOf, parseRoomId, roomIdOf } from '../rooms/room-id.js'
+import { payoutFor } from '../fairness/payout.js'
+
+/**
+ * Start-up recovery: drops still in flight in the ledger were recorded and
+ * debited, but the process stopped before they landed. A drop's outcome is
+ * fixed by its seed and board, so each is played to the end now and settled
+ * exactly as the room would have settled it, all in one transaction.
+ * Drops recorded under another engine version cannot be replayed faithfully
+ * and are left for the operator (logged).
+ * @param {any} store
+ * @param {{ info: Function, warn: Function, error: Function }} log
+ * @returns {Promise<{ settled: number, skipped: number }>}
+ */
+export async function settleInterruptedDrops (store, log) {
+  const drops = await store.listInFlightDrops()
+  if (drops.length === 0) return { settled: 0, skipped: 0 }
+  const settlements = []
+  const balances = new Map()
+  let skipped = 0
+  for (const drop of drops) {
+    const roomId = roomIdOf(drop.rows, drop.risk)
+    if (drop.engineVersion !== ENGINE_VERSION || !parseRoomId(roomId)) {
+      skipped++
+      log.error({ dropId: drop.id, engineVersion: drop.engineVersion }, 'cannot replay an interrupted drop recorded under another engine version; left in flight')
+      continue
+    }
+    const outcome = simulateDrop(boardOf(roomId), drop.dropSeed)
+    const payout = payoutFor(drop.bet, outcome.multiplier)
+    settlements.push({ id: drop.id, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
+    balances.set(drop.playerId, (balances.get(drop.playerId) ?? 0) + payout)
+  }
+  if (settlements.length > 0) {
+    await store.commitBatch({
+      drops: [],
+      settlements,
+      balances: [...balances].filter(([, delta]) => delta !== 0).map(([playerId, delta]) => ({ playerId, delta })),
+      nonces: [],
+      clientSeeds: []
+    })
+  }
+  log.warn({ settled: settlements.length, skipped }, 'settled drops interrupted by the last shutdown')
+  return { settled: settlements.length, skipped }
+}

@@ -1,0 +1,24 @@
+/**
+ * A token bucket: `burst` tokens, refilled at `rate` per second. Used to
+ * limit drops per player; time comes from a monotonic clock.
+ */
+export class TokenBucket {
+  /** @param {{ rate: number, burst: number, now?: () => number }} options now() in ms */
+  constructor ({ rate, burst, now = () => performance.now() }) {
+    this.rate = rate
+    this.burst = burst
+    this.now = now
+    this.tokens = burst
+    this.updatedAt = now()
+  }
+
+  /** Takes one token if there is one. @returns {boolean} */
+  take () {
+    const now = this.now()
+    this.tokens = Math.min(this.burst, this.tokens + (now - this.updatedAt) * this.rate / 1000)
+    this.updatedAt = now
+    if (this.tokens < 1) return false
+    this.tokens -= 1
+    return true
+  }
+}

@@ -1,0 +1,204 @@
+import { GameError, ERROR_CODES } from '../errors.js'
+import { ENGINE_VERSION } from '../../engine/index.js'
+import { holdWritesUntilEndOfTurn } from './write-batcher.js'
+
+/** Messages that may arrive while the token is being checked; more than this is abuse. */
+const MAX_EARLY_MESSAGES = 32
+
+/**
+ * One authenticated WebSocket: turns client frames into arena calls and
+ * sends events and snapshots back, minding backpressure. Events (joined,
+ * dropped, settled, errors, …) are always sent; snapshots are skipped while
+ * the socket has more than `softLimit` bytes queued. A socket over
+ * `hardLimit` is closed (1013, E_SLOW_CONSUMER): nothing is buffered
+ * without bound.
+ */
+export class Connection {
+  /**
+   * @param {object} options
+   * @param {import('ws').WebSocket} options.socket
+   * @param {import('../arena.js').Arena} options.arena
+   * @param {(text: string) => any} options.parseMessage
+   * @param {import('../metrics.js').Metrics} options.metrics
+   * @param {import('pino').Logger} options.log
+   * @param {number} options.softLimit @param {number} options.hardLimit bytes
+   */
+  constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit }) {
+    this.socket = socket
+    this.arena = arena
+    this.parseMessage = parseMessage
+    this.metrics = metrics
+    this.log = log
+    this.softLimit = softLimit
+    this.hardLimit = hardLimit
+    /** @type {import('../ledger/accounts.js').Account | null} */
+    this.account = null
+    /** @type {import('../rooms/room.js').Room | null} */
+    this.room = null
+    this.closed = false
+    this.alive = true
+    this._early = []
+    socket.on('message', (data, isBinary) => {
+      if (this.account) this._receive(data, isBinary)
+      else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.close(1008, 'too many messages before authentication')
+    })
+    socket.on('pong', () => { this.alive = true })
+    socket.on('close', () => this._closed())
+  }
+
+  /**
+   * Binds the connection to a player once the token has been checked
+   * (null: refused). Queued early messages are then handled in order.
+   * @param {import('../ledger/accounts.js').Account | null} account
+   */
+  authenticated (account) {
+    if (!account) {
+      this.sendError('E_UNAUTHORIZED', 'missing or invalid session token; create one with POST /api/session and connect to /ws?token=TOKEN')
+      this.close(ERROR_CODES.E_UNAUTHORIZED.close, 'E_UNAUTHORIZED')
+      return false
+    }
+    if (this.closed) return false
+    this.account = account
+    account.connections.add(this)
+    this.arena.connected(this)
+    this.sendJson({
+      type: 'welcome',
+      playerId: account.playerId,
+      balance: account.balance,
+      serverSeedHash: account.seed.hash,
+      clientSeed: account.clientSeed,
+      nonce: account.seed.nextNonce,
+      engineVersion: ENGINE_VERSION,
+      tickRate: 60,
+      minBet: this.arena.config.minBet,
+      maxBet: this.arena.config.maxBet
+    })
+    for (const [data, isBinary] of this._early.splice(0)) this._receive(data, isBinary)
+    return true
+  }
+
+  _receive (data, isBinary) {
+    if (this.closed) return
+    let message
+    try {
+      if (isBinary) {
+        this.metrics.messagesIn.labels('binary').inc()
+        throw new GameError('E_BAD_MESSAGE', 'binary frames are not accepted; send JSON text frames')
+      }
+      message = this.parseMessage(data.toString('utf8'))
+      this.metrics.messagesIn.labels(message.type).inc()
+      this._handle(message)
+    } catch (error) {
+      if (!(error instanceof GameError)) {
+        this.log.error({ err: error }, 'message handler failed')
+        error = new GameError('E_INTERNAL')
+      } else if (message === undefined && !isBinary) {
+        this.metrics.messagesIn.labels('invalid').inc()
+      }
+      this.sendError(error.code, error.message, message?.ref ?? error.ref)
+    }
+  }
+
+  _handle (message) {
+    const arena = this.arena
+    switch (message.type) {
+      case 'join':
+        this.sendJson(withRef(arena.join(this, message.room), message.ref))
+        break
+      case 'leave':
+        this.sendJson(withRef({ type: 'left', room: arena.leave(this) }, message.ref))
+        break
+      case 'drop':
+        arena.drop(this, message)
+        break
+      case 'ping':
+        this.sendJson(withRef({ type: 'pong', serverTime: Date.now() }, message.ref))
+        break
+    }
+  }
+
+  // ---- sending ------------------------------------------------------------
+
+  /** @param {object} message */
+  sendJson (message) {
+    this.sendEvent(JSON.stringify(message), message.type)
+  }
+
+  /**
+   * An event the client must not miss: sent unless the socket is over the
+   * hard limit, in which case the client is too slow and is closed.
+   * @param {string} text @param {string} type for metrics
+   */
+  sendEvent (text, type) {
+    if (this.closed) return
+    if (this.socket.bufferedAmount > this.hardLimit) return this._tooSlow()
+    holdWritesUntilEndOfTurn(this.socket)
+    this.socket.send(text)
+    this.metrics.messagesOut.labels(type).inc()
+    this.metrics.bytesOut.inc(Buffer.byteLength(text))
+  }
+
+  /** A snapshot may be skipped: the next one supersedes it. @param {Buffer} frame */
+  sendSnapshot (frame) {
+    if (this.closed) return
+    const queued = this.socket.bufferedAmount
+    if (queued > this.hardLimit) return this._tooSlow()
+    if (queued > this.softLimit) {
+      this.metrics.snapshotsSkipped.inc()
+      return
+    }
+    holdWritesUntilEndOfTurn(this.socket)
+    this.socket.send(frame, { binary: true })
+    this.metrics.snapshotOut.inc()
+    this.metrics.bytesOut.inc(frame.length)
+  }
+
+  /** @param {string} code @param {string} [message] @param {any} [ref] */
+  sendError (code, message, ref) {
+    this.metrics.errors.labels(code).inc()
+    const error = { type: 'error', code, message: message ?? ERROR_CODES[code].message }
+    if (ref !== undefined) error.ref = ref
+    this.sendJson(error)
+  }
+
+  _tooSlow () {
+    this.metrics.slowConsumersClosed.inc()
+    this.log.warn({ player: this.account?.playerId, buffered: this.socket.bufferedAmount }, 'closing slow consumer')
+    this.close(ERROR_CODES.E_SLOW_CONSUMER.close, 'E_SLOW_CONSUMER')
+  }
+
+  // ---- lifecycle ------------------------------------------------------------
+
+  /** Called every 30 s by the arena: a peer that missed the previous ping is gone. */
+  heartbeat () {
+    if (!this.alive) {
+      this.socket.terminate()
+      return
+    }
+    this.alive = false
+    this.socket.ping()
+  }
+
+  /** @param {number} code @param {string} reason */
+  close (code, reason) {
+    if (this.closed) return
+    this._closed()
+    this.socket.close(code, reason)
+  }
+
+  _closed () {
+    if (this.closed) return
+    this.closed = true
+    this._early.length = 0
+    if (this.account) {
+      this.arena.disconnected(this)
+      this.account.connections.delete(this)
+      this.arena.accounts.release(this.account)
+    }
+  }
+}
+
+function withRef (message, ref) {
+  if (ref !== undefined) message.ref = ref
+  return message
+}

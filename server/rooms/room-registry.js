@@ -1,0 +1,68 @@
+import { Room } from './room.js'
+import { parseRoomId, boardOf } from './room-id.js'
+import { gameError } from '../errors.js'
+
+/**
+ * The rooms alive in this process, by id, in creation order (the order the
+ * scheduler steps them). Creates a room on its first join and disposes it
+ * once it is idle (no clients, no balls in flight).
+ */
+export class RoomRegistry {
+  /**
+   * @param {object} options
+   * @param {number} options.snapshotEvery ticks between snapshots
+   * @param {(room: Room) => void} [options.onChange] after a room is created or disposed
+   */
+  constructor ({ snapshotEvery, onChange = () => {} }) {
+    this.snapshotEvery = snapshotEvery
+    this.onChange = onChange
+    /** @type {Map<string, Room>} */
+    this.rooms = new Map()
+    this._created = 0
+  }
+
+  /** @param {string} id */
+  get (id) {
+    return this.rooms.get(id)
+  }
+
+  /**
+   * @param {unknown} id
+   * @returns {Room}
+   * @throws E_UNKNOWN_ROOM when `id` names no board
+   */
+  getOrCreate (id) {
+    const existing = this.rooms.get(/** @type {string} */ (id))
+    if (existing) return existing
+    if (!parseRoomId(id)) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}; room ids are ROWS-RISK, e.g. 16-medium`)
+    const room = new Room({
+      id: /** @type {string} */ (id),
+      board: boardOf(/** @type {string} */ (id)),
+      snapshotEvery: this.snapshotEvery,
+      snapshotPhase: this._created++
+    })
+    this.rooms.set(room.id, room)
+    this.onChange(room)
+    return room
+  }
+
+  /** Adds a room built elsewhere (benchmarks run many rooms per board). @param {Room} room */
+  adopt (room) {
+    this.rooms.set(room.id, room)
+    this.onChange(room)
+  }
+
+  disposeIdle () {
+    for (const room of this.rooms.values()) {
+      if (!room.isIdle) continue
+      this.rooms.delete(room.id)
+      this.onChange(room)
+    }
+  }
+
+  values () {
+    return this.rooms.values()
+  }
+
+  get size () { return this.rooms.size }
+}

@@ -1,0 +1,143 @@
+import { DropSimulator } from '../../engine/index.js'
+import { encodeSnapshot } from './snapshot-codec.js'
+
+/**
+ * One board, its simulator and the connections watching it. Lifecycle:
+ * created on the first join, stepped by the arena's scheduler, disposed by
+ * the registry once it has no clients and no balls in flight.
+ *
+ * A ball's slot is its body id in the simulator: small, reused lowest first
+ * once the ball has landed. A ball is *visible* (in snapshots and in
+ * `joined`) only after its drop has been recorded and announced, so every
+ * slot a client sees has been named in a `dropped` message first.
+ */
+export class Room {
+  /**
+   * @param {object} options
+   * @param {string} options.id
+   * @param {import('../../engine/board.js').Board} options.board
+   * @param {number} options.snapshotEvery ticks between snapshots
+   * @param {number} [options.snapshotPhase] offset so rooms' snapshots fall on different ticks
+   */
+  constructor ({ id, board, snapshotEvery, snapshotPhase = 0 }) {
+    this.id = id
+    this.board = board
+    this.rows = board.rows
+    this.risk = board.risk
+    this.simulator = new DropSimulator(board)
+    /** Ticks stepped since the room was created. A ball released at tick T lands at T + ticks. */
+    this.tick = 0
+    this.snapshotEvery = snapshotEvery
+    this.snapshotPhase = snapshotPhase % snapshotEvery
+    /** @type {Set<import('../realtime/connection.js').Connection>} */
+    this.clients = new Set()
+    /** @type {(import('../arena.js').Drop | undefined)[]} drop by slot, while in flight */
+    this.balls = []
+    this.visible = new Uint8Array(64)
+    this.visibleCount = 0
+    this._lastSnapshotHadBalls = false
+    this._discarded = 0
+  }
+
+  /** Balls of live drops in flight (discarded ones excluded). */
+  get ballsInFlight () { return this.simulator.inFlight - this._discarded }
+
+  get isIdle () { return this.clients.size === 0 && this.simulator.inFlight === 0 }
+
+  /**
+   * Puts a drop's ball on the board at the current tick.
+   * @param {import('../arena.js').Drop} drop
+   */
+  release (drop) {
+    drop.startTick = this.tick
+    const slot = this.simulator.addDrop(drop.dropSeed, drop)
+    drop.slot = slot
+    this.balls[slot] = drop
+    if (slot >= this.visible.length) {
+      const grown = new Uint8Array(Math.max(slot + 1, this.visible.length * 2))
+      grown.set(this.visible)
+      this.visible = grown
+    }
+  }
+
+  /** Makes an announced drop's ball visible, if it is still in flight. @param {import('../arena.js').Drop} drop */
+  show (drop) {
+    if (this.balls[drop.slot] !== drop || this.visible[drop.slot] === 1) return
+    this.visible[drop.slot] = 1
+    this.visibleCount++
+  }
+
+  /**
+   * Forgets a drop whose ledger record failed. Its ball keeps falling (the
+   * simulator has no way to remove one) but is never shown, counted against
+   * the room's limit, or settled.
+   * @param {import('../arena.js').Drop} drop
+   */
+  discard (drop) {
+    if (drop.void) return
+    drop.void = true
+    if (this.balls[drop.slot] === drop) this._discarded++
+  }
+
+  /**
+   * Advances one tick. `onLanded(drop, landed, tick)` runs for each ball
+   * that landed, with `tick` = the room tick after this step.
+   * @param {(drop: any, landed: import('../../engine/drop-simulator.js').LandedDrop, tick: number) => void} onLanded
+   */
+  step (onLanded) {
+    const landed = this.simulator.step()
+    this.tick++
+    for (let i = 0; i < landed.length; i++) {
+      const ball = landed[i]
+      const slot = ball.body
+      this.balls[slot] = undefined
+      if (this.visible[slot] === 1) { this.visible[slot] = 0; this.visibleCount-- }
+      if (ball.key.void) { this._discarded--; continue }
+      onLanded(ball.key, ball, this.tick)
+    }
+  }
+
+  get snapshotDue () {
+    return (this.tick + this.snapshotPhase) % this.snapshotEvery === 0
+  }
+
+  /**
+   * The snapshot frame for the current tick, or null when there is nothing
+   * new to say (no balls now and none in the previous frame).
+   */
+  encodeSnapshot () {
+    if (this.visibleCount === 0 && !this._lastSnapshotHadBalls) return null
+    this._lastSnapshotHadBalls = this.visibleCount > 0
+    const world = this.simulator.world
+    return encodeSnapshot(this.tick, this.visible, world.bodyCount, world.x, world.y)
+  }
+
+  /** Visible balls with what a late joiner needs to replay them from their seeds. */
+  ballStates () {
+    const world = this.simulator.world
+    const states = []
+    for (let slot = 0; slot < this.balls.length; slot++) {
+      if (this.visible[slot] !== 1) continue
+      const drop = this.balls[slot]
+      states.push({
+        dropId: drop.id,
+        player: drop.playerId,
+        slot,
+        serverSeedHash: drop.serverSeedHash,
+        clientSeed: drop.clientSeed,
+        nonce: drop.nonce,
+        dropSeed: drop.dropSeed,
+        bet: drop.bet,
+        startTick: drop.startTick,
+        x: world.x[slot],
+        y: world.y[slot]
+      })
+    }
+    return states
+  }
+
+  /** What GET /api/rooms lists. */
+  summary () {
+    return { id: this.id, rows: this.rows, risk: this.risk, players: this.clients.size, ballsInFlight: this.ballsInFlight, tick: this.tick }
+  }
+}

@@ -1,0 +1,257 @@
+import { Readable } from 'node:stream'
+import { simulateDrop, verifyDrop, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION } from '../../engine/index.js'
+import { requireOperator } from '../auth.js'
+import { gameError } from '../errors.js'
+import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
+import { payoutFor } from '../fairness/payout.js'
+import { boardOf, parseRoomId } from '../rooms/room-id.js'
+import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
+
+const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }
+const playerId = { type: 'string', minLength: 1, maxLength: 64 }
+
+/**
+ * The operator API (Authorization: Bearer OPERATOR_TOKEN): any drop with a
+ * fresh re-simulation, searches, a standalone verifier, full-history
+ * exports and per-room statistics. Active server seeds are used for checks
+ * but never returned.
+ * @param {import('fastify').FastifyInstance} app
+ * @param {{ arena: import('../arena.js').Arena }} options
+ */
+export default async function auditRoutes (app, { arena }) {
+  const { store } = arena
+  app.addHook('preHandler', requireOperator(arena.config.operatorToken))
+
+  app.get('/api/audit/drops/:id', {
+    schema: {
+      summary: 'A stored drop, its re-simulation from the stored seeds and whether they match',
+      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1 } }, required: ['id'] },
+      response: {
+        200: {
+          type: 'object',
+          properties: {
+            drop: dropRecord,
+            replay: {
+              type: 'object',
+              properties: {
+                engineVersion: { type: 'string' },
+                serverSeedHash: { type: ['string', 'null'] },
+                dropSeed: { type: ['string', 'null'] },
+                bucket: { type: 'integer' },
+                multiplier: { type: 'number' },
+                payout: { type: 'integer' },
+                ticks: { type: 'integer' },
+                stateHash: { type: 'string' }
+              }
+            },
+            checks: { type: 'object', additionalProperties: { type: ['boolean', 'null'] } },
+            matches: { type: 'boolean' }
+          }
+        },
+        ...errors(400, 401, 403, 404)
+      }
+    }
+  }, async (request) => {
+    const drop = await store.getDrop(request.params.id)
+    if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
+    const serverSeed = await store.getServerSeedOfDrop(drop.id)
+    return auditDrop(drop, serverSeed)
+  })
+
+  app.get('/api/audit/drops', {
+    schema: {
+      summary: 'Drops, newest first, filtered by player, room and creation time',
+      querystring: {
+        type: 'object',
+        properties: {
+          player: playerId,
+          room: { type: 'string', maxLength: 32 },
+          from: timeParam,
+          to: timeParam,
+          limit: { type: 'integer', minimum: 1, maximum: 1000, default: 100 },
+          before: { type: 'integer', minimum: 1 }
+        },
+        additionalProperties: false
+      },
+      response: { 200: dropList, ...errors(400, 401, 403) }
+    }
+  }, async (request) => {
+    const { player, room, from, to, limit, before } = request.query
+    return { drops: await store.listDrops({ playerId: player, room, from: timeFilter('from', from), to: timeFilter('to', to), beforeId: before, limit }) }
+  })
+
+  app.get('/api/audit/verify', {
+    schema: {
+      summary: 'Recompute a drop from seeds (through the engine\'s WebCrypto path, as a browser would)',
+      querystring: {
+        type: 'object',
+        properties: {
+          serverSeed: { type: 'string', minLength: 1, maxLength: 256 },
+          clientSeed: { type: 'string', minLength: 1, maxLength: 64 },
+          nonce: { type: 'integer', minimum: 0 },
+          rows: { type: 'integer', minimum: MIN_ROWS, maximum: MAX_ROWS, default: 16 },
+          risk: { type: 'string', enum: [...RISKS], default: 'medium' }
+        },
+        required: ['serverSeed', 'clientSeed', 'nonce'],
+        additionalProperties: false
+      },
+      response: {
+        200: {
+          type: 'object',
+          properties: {
+            serverSeedHash: { type: 'string' },
+            dropSeed: { type: 'string' },
+            bucket: { type: 'integer' },
+            multiplier: { type: 'number' },
+            ticks: { type: 'integer' },
+            stateHash: { type: 'string' },
+            engineVersion: { type: 'string' },
+            recorded: { type: 'array', items: { type: 'object', properties: { id: { type: 'integer' }, matches: { type: 'boolean' } } } }
+          }
+        },
+        ...errors(400, 401, 403)
+      }
+    }
+  }, async (request) => {
+    const { serverSeed, clientSeed, nonce, rows, risk } = request.query
+    const result = await verifyDrop({ serverSeed, clientSeed, nonce, rows, risk })
+    // Any stored drop with these seeds, checked against the recomputation.
+    const stored = await store.listDrops({ serverSeedHash: result.serverSeedHash, nonce, limit: 10 })
+    const recorded = stored.map((drop) => ({
+      id: drop.id,
+      matches: drop.clientSeed === clientSeed && drop.dropSeed === result.dropSeed && drop.rows === rows && drop.risk === risk &&
+        (drop.status !== 'settled' || (drop.bucket === result.bucket && drop.ticks === result.ticks && drop.stateHash === result.stateHash))
+    }))
+    return { ...result, recorded }
+  })
+
+  app.get('/api/audit/export', {
+    schema: {
+      summary: 'The full drop history of a player or of one server seed, oldest first, as JSON or JSON lines',
+      querystring: {
+        type: 'object',
+        properties: { player: playerId, serverSeedHash: hex64, format: { type: 'string', enum: ['json', 'ndjson'], default: 'json' } },
+        additionalProperties: false
+      },
+      response: errors(400, 401, 403)
+    }
+  }, async (request, reply) => {
+    const { player, serverSeedHash, format } = request.query
+    if ((player === undefined) === (serverSeedHash === undefined)) throw gameError('E_BAD_REQUEST', 'give exactly one of player or serverSeedHash')
+    const drops = store.iterateDrops({ playerId: player, serverSeedHash })
+    reply.header('content-disposition', `attachment; filename="drops-${player ?? serverSeedHash.slice(0, 16)}.${format === 'json' ? 'json' : 'ndjson'}"`)
+    if (format === 'ndjson') {
+      reply.type('application/x-ndjson')
+      return reply.send(Readable.from(jsonLines(drops)))
+    }
+    reply.type('application/json')
+    return reply.send(Readable.from(jsonArray(drops)))
+  })
+
+  app.get('/api/audit/rooms/:id/stats', {
+    schema: {
+      summary: 'A room\'s settled drops: totals, measured RTP and bucket counts (for the operator\'s charts)',
+      params: { type: 'object', properties: { id: { type: 'string', maxLength: 32 } }, required: ['id'] },
+      response: {
+        200: {
+          type: 'object',
+          properties: {
+            room: { type: 'string' },
+            rows: { type: 'integer' },
+            risk: { type: 'string' },
+            multipliers: { type: 'array', items: { type: 'number' } },
+            settled: { type: 'integer' },
+            inFlight: { type: 'integer' },
+            totalBet: { type: 'integer' },
+            totalPayout: { type: 'integer' },
+            rtp: { type: ['number', 'null'] },
+            bucketCounts: { type: 'array', items: { type: 'integer' } },
+            buckets: {
+              type: 'array',
+              items: { type: 'object', properties: { bucket: { type: 'integer' }, count: { type: 'integer' }, bet: { type: 'integer' }, payout: { type: 'integer' } } }
+            },
+            live: {
+              type: ['object', 'null'],
+              properties: { players: { type: 'integer' }, ballsInFlight: { type: 'integer' }, tick: { type: 'integer' } }
+            }
+          }
+        },
+        ...errors(400, 401, 403, 404)
+      }
+    }
+  }, async (request) => {
+    const id = request.params.id
+    const parsed = parseRoomId(id)
+    if (!parsed) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}`)
+    const stats = await store.roomStats(id)
+    const board = boardOf(id)
+    const bucketCounts = new Array(board.rows + 1).fill(0)
+    for (const { bucket, count } of stats.buckets) bucketCounts[bucket] = count
+    const live = arena.rooms.get(id)
+    return {
+      room: id,
+      ...parsed,
+      multipliers: board.multipliers,
+      ...stats,
+      bucketCounts,
+      live: live ? { players: live.clients.size, ballsInFlight: live.ballsInFlight, tick: live.tick } : null
+    }
+  })
+}
+
+/**
+ * Re-simulates a stored drop from its drop seed and checks every link of
+ * the chain the server can check: commitment, HMAC, outcome, payout.
+ * A check is null when it does not apply (an in-flight drop has no outcome
+ * yet); `matches` is true only when every applicable check passed and the
+ * drop is settled.
+ * @param {ReturnType<import('../store/records.js').toDropRecord>} drop
+ * @param {string | null} serverSeed
+ */
+export function auditDrop (drop, serverSeed) {
+  const outcome = simulateDrop(boardOf(`${drop.rows}-${drop.risk}`), drop.dropSeed)
+  const payout = payoutFor(drop.bet, outcome.multiplier)
+  const replay = {
+    engineVersion: ENGINE_VERSION,
+    serverSeedHash: serverSeed === null ? null : sha256Hex(serverSeed),
+    dropSeed: serverSeed === null ? null : deriveDropSeed(serverSeed, drop.clientSeed, drop.nonce),
+    bucket: outcome.bucket,
+    multiplier: outcome.multiplier,
+    payout,
+    ticks: outcome.ticks,
+    stateHash: outcome.stateHash
+  }
+  const settled = drop.status === 'settled'
+  const checks = {
+    engineVersion: drop.engineVersion === ENGINE_VERSION,
+    serverSeedHash: serverSeed === null ? null : replay.serverSeedHash === drop.serverSeedHash,
+    dropSeed: serverSeed === null ? null : replay.dropSeed === drop.dropSeed,
+    bucket: settled ? drop.bucket === replay.bucket : null,
+    multiplier: settled ? drop.multiplier === replay.multiplier : null,
+    payout: settled ? drop.payout === replay.payout : null,
+    ticks: settled ? drop.ticks === replay.ticks : null,
+    stateHash: settled ? drop.stateHash === replay.stateHash : null
+  }
+  const matches = settled && Object.values(checks).every((check) => check !== false)
+  return { drop, replay, checks, matches }
+}
+
+function timeFilter (name, value) {
+  const ms = parseTime(value)
+  if (Number.isNaN(ms)) throw gameError('E_BAD_REQUEST', `${name} must be an ISO 8601 time or milliseconds since the epoch`)
+  return ms
+}
+
+async function * jsonLines (drops) {
+  for await (const drop of drops) yield JSON.stringify(drop) + '\n'
+}
+
+async function * jsonArray (drops) {
+  let first = true
+  yield '['
+  for await (const drop of drops) {
+    yield (first ? '\n' : ',\n') + JSON.stringify(drop)
+    first = false
+  }
+  yield '\n]\n'
+}

@@ -1,0 +1,82 @@
+import { createHash } from 'node:crypto'
+import fs from 'node:fs'
+import path from 'node:path'
+import { createRequire } from 'node:module'
+import { fileURLToPath } from 'node:url'
+
+const ENGINE_DIR = fileURLToPath(new URL('../../engine/', import.meta.url))
+const require = createRequire(import.meta.url)
+
+/**
+ * What the browser needs besides client/ to run the very same engine as the
+ * server, with no build step:
+ *   GET /engine/NAME.js        the repository's engine/ files, as they are
+ *   GET /vendor/seedrandom.js  seedrandom as an ES module
+ * The pages map the engine's one bare import, 'seedrandom', to
+ * /vendor/seedrandom.js with an inline import map (see inlineScriptHashes
+ * for how it passes the Content-Security-Policy).
+ * @param {import('fastify').FastifyInstance} app
+ */
+export default async function clientAssetRoutes (app) {
+  const engineFiles = new Map()
+  for (const name of fs.readdirSync(ENGINE_DIR)) {
+    if (name.endsWith('.js')) engineFiles.set(name, fs.readFileSync(path.join(ENGINE_DIR, name), 'utf8'))
+  }
+  const seedrandom = seedrandomModule()
+
+  // Engine files are read once: an engine change needs a restart, like the
+  // server's own copy. Static and cheap, so outside the per-IP rate limit
+  // (a page load fetches every engine module).
+  app.get('/engine/:file', { config: { rateLimit: false }, schema: { summary: 'An engine module, for the browser' } }, (request, reply) => {
+    const source = engineFiles.get(request.params.file)
+    if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no engine file ${request.params.file}` })
+    return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(source)
+  })
+  app.get('/vendor/seedrandom.js', { config: { rateLimit: false }, schema: { summary: 'seedrandom as an ES module, for the browser' } }, (request, reply) => {
+    return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(seedrandom)
+  })
+}
+
+/**
+ * seedrandom's ARC4 generator (node_modules/seedrandom/seedrandom.js, the
+ * function its index.js exports, which the server's engine uses) wrapped as
+ * an ES module. The file is a UMD: given an object `module`, it assigns
+ * `module.exports = seedrandom`; its optional require('crypto'), used only
+ * for autoseeding, sits in a try/catch and fails harmlessly because
+ * `require` is undefined in the browser.
+ */
+export function seedrandomModule () {
+  const file = require.resolve('seedrandom/seedrandom.js')
+  const source = fs.readFileSync(file, 'utf8')
+  return `// seedrandom ${require('seedrandom/package.json').version} (${path.basename(file)}), wrapped as an ES module by server/routes/client-assets.js\n` +
+    'const module = { exports: {} };\n' +
+    source +
+    '\nexport default module.exports;\n'
+}
+
+/**
+ * CSP hash sources ('sha256-…') of every inline <script> in the client's
+ * HTML pages: only the import maps, which browsers check against
+ * script-src like any inline script. app.js adds them to helmet's
+ * script-src, so the policy stays "scripts from this origin only" without
+ * 'unsafe-inline'. A missing client folder yields none.
+ * @param {string} clientDir
+ * @returns {string[]}
+ */
+export function inlineScriptHashes (clientDir) {
+  let names
+  try {
+    names = fs.readdirSync(clientDir).filter((name) => name.endsWith('.html'))
+  } catch {
+    return []
+  }
+  const hashes = new Set()
+  for (const name of names) {
+    const html = fs.readFileSync(path.join(clientDir, name), 'utf8')
+    for (const match of html.matchAll(/<script\b[^>]*>([\s\S]*?)<\/script>/gi)) {
+      if (/\bsrc\s*=/.test(match[0].slice(0, match[0].indexOf('>')))) continue
+      hashes.add(`'sha256-${createHash('sha256').update(match[1], 'utf8').digest('base64')}'`)
+    }
+  }
+  return [...hashes].sort()
+}

@@ -1,0 +1,47 @@
+import { requirePlayer } from '../auth.js'
+import { gameError } from '../errors.js'
+import { dropList, dropRecord, errors } from './schemas.js'
+
+/**
+ * A player's own drops, newest first. The server seed appears on a drop
+ * only once it has been revealed.
+ * @param {import('fastify').FastifyInstance} app
+ * @param {{ arena: import('../arena.js').Arena }} options
+ */
+export default async function dropRoutes (app, { arena }) {
+  const { store } = arena
+  const asPlayer = requirePlayer(store)
+
+  app.get('/api/drops', {
+    preHandler: asPlayer,
+    schema: {
+      summary: "The caller's drops, newest first; page with ?before=<lowest id seen>",
+      querystring: {
+        type: 'object',
+        properties: {
+          limit: { type: 'integer', minimum: 1, maximum: 500, default: 50 },
+          before: { type: 'integer', minimum: 1 }
+        },
+        additionalProperties: false
+      },
+      response: { 200: dropList, ...errors(400, 401) }
+    }
+  }, async (request) => {
+    const { limit, before } = request.query
+    return { drops: await store.listDrops({ playerId: request.playerId, beforeId: before, limit }) }
+  })
+
+  app.get('/api/drops/:id', {
+    preHandler: asPlayer,
+    schema: {
+      summary: 'One of the caller\'s drops',
+      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1 } }, required: ['id'] },
+      response: { 200: dropRecord, ...errors(400, 401, 403, 404) }
+    }
+  }, async (request) => {
+    const drop = await store.getDrop(request.params.id)
+    if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
+    if (drop.playerId !== request.playerId) throw gameError('E_FORBIDDEN', 'players may read only their own drops')
+    return drop
+  })
+}

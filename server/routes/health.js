@@ -1,0 +1,27 @@
+import { ENGINE_VERSION } from '../../engine/index.js'
+
+/**
+ * GET /api/health: liveness for load balancers and the client's about box.
+ * @param {import('fastify').FastifyInstance} app
+ * @param {{ arena: import('../arena.js').Arena }} options
+ */
+export default async function healthRoutes (app, { arena }) {
+  app.get('/api/health', {
+    config: { rateLimit: false },
+    schema: {
+      summary: 'Liveness',
+      response: {
+        200: {
+          type: 'object',
+          properties: { status: { type: 'string' }, engineVersion: { type: 'string' }, store: { type: 'string' }, tick: { type: 'integer' }, rooms: { type: 'integer' } }
+        }
+      }
+    }
+  }, async () => ({
+    status: arena.accepting ? 'ok' : 'closing',
+    engineVersion: ENGINE_VERSION,
+    store: arena.store.kind,
+    tick: arena.scheduler.ticks,
+    rooms: arena.rooms.size
+  }))
+}

@@ -1,0 +1,63 @@
+import { CLIENT_SEED_PATTERN } from '../fairness/seeds.js'
+
+/**
+ * Shared JSON schemas for HTTP routes. Response schemas double as an
+ * allow-list: fastify serialises only the listed properties, so nothing
+ * (an active server seed, a token hash) can leak by accident.
+ */
+export const errorReply = {
+  type: 'object',
+  properties: { code: { type: 'string' }, message: { type: 'string' } },
+  required: ['code', 'message']
+}
+
+export const clientSeed = { type: 'string', pattern: CLIENT_SEED_PATTERN }
+
+const nullable = (type) => ({ type: [type, 'null'] })
+
+export const dropRecord = {
+  type: 'object',
+  properties: {
+    id: { type: 'integer' },
+    playerId: { type: 'string' },
+    room: { type: 'string' },
+    rows: { type: 'integer' },
+    risk: { type: 'string' },
+    engineVersion: { type: 'string' },
+    serverSeedHash: { type: 'string' },
+    serverSeed: nullable('string'),
+    clientSeed: { type: 'string' },
+    nonce: { type: 'integer' },
+    dropSeed: { type: 'string' },
+    bet: { type: 'integer' },
+    bucket: nullable('integer'),
+    multiplier: nullable('number'),
+    payout: nullable('integer'),
+    startTick: { type: 'integer' },
+    ticks: nullable('integer'),
+    stateHash: nullable('string'),
+    status: { type: 'string', enum: ['in_flight', 'settled'] },
+    createdAt: { type: 'string' },
+    settledAt: nullable('string')
+  }
+}
+
+export const dropList = {
+  type: 'object',
+  properties: { drops: { type: 'array', items: dropRecord } }
+}
+
+/** Standard error replies for a route, by status. */
+export function errors (...statuses) {
+  return Object.fromEntries(statuses.map((status) => [status, errorReply]))
+}
+
+/** A timestamp filter: ISO 8601 date/time or milliseconds since the epoch. */
+export const timeParam = { type: 'string', maxLength: 40 }
+
+/** @param {string | undefined} value @returns {number | undefined} ms */
+export function parseTime (value) {
+  if (value === undefined) return undefined
+  const ms = /^\d+$/.test(value) ? Number(value) : Date.parse(value)
+  return Number.isFinite(ms) ? ms : NaN
+}

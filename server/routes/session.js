@@ -1,0 +1,69 @@
+import { createSession } from '../ledger/sessions.js'
+import { requirePlayer } from '../auth.js'
+import { errors } from './schemas.js'
+import { gameError } from '../errors.js'
+
+const sessionReply = {
+  type: 'object',
+  properties: {
+    token: { type: 'string' },
+    playerId: { type: 'string' },
+    balance: { type: 'integer' },
+    serverSeedHash: { type: 'string' },
+    clientSeed: { type: 'string' },
+    nonce: { type: 'integer' }
+  }
+}
+
+const { token, ...meProperties } = sessionReply.properties
+
+/**
+ * POST /api/session: a new guest player (play money) and its token.
+ * GET /api/me: the caller's balance and fairness state.
+ * @param {import('fastify').FastifyInstance} app
+ * @param {{ arena: import('../arena.js').Arena }} options
+ */
+export default async function sessionRoutes (app, { arena }) {
+  const { config, store } = arena
+  app.post('/api/session', {
+    config: { rateLimit: { max: config.sessionRateLimit, timeWindow: 60_000 } },
+    schema: {
+      summary: 'Create a guest session',
+      response: { 201: sessionReply, ...errors(429) }
+    }
+  }, async (request, reply) => {
+    reply.code(201)
+    return createSession(store, config)
+  })
+
+  app.get('/api/me', {
+    preHandler: requirePlayer(store),
+    schema: {
+      summary: "The caller's balance, active seed commitment, client seed and next nonce",
+      response: {
+        200: {
+          type: 'object',
+          properties: { ...meProperties, createdAt: { type: 'string' }, room: { type: ['string', 'null'] } }
+        },
+        ...errors(401)
+      }
+    }
+  }, async (request) => {
+    const account = await arena.accounts.acquire(request.playerId)
+    if (!account) throw gameError('E_UNAUTHORIZED', 'unknown player')
+    try {
+      const connection = [...account.connections].find((c) => c.room)
+      return {
+        playerId: account.playerId,
+        balance: account.balance,
+        serverSeedHash: account.seed.hash,
+        clientSeed: account.clientSeed,
+        nonce: account.seed.nextNonce,
+        createdAt: new Date(account.createdAt).toISOString(),
+        room: connection?.room.id ?? null
+      }
+    } finally {
+      arena.accounts.release(account)
+    }
+  })
+}

@@ -1,0 +1,24 @@
+/**
+ * WHERE clause for drop queries, shared by both stores; `placeholder(n)`
+ * returns the n-th (1-based) parameter marker: '?' for SQLite, '$n' for
+ * PostgreSQL. Columns belong to the alias `d` (drops).
+ * @param {{ playerId?: string, serverSeedHash?: string, nonce?: number, room?: string, status?: string,
+ *   from?: number, to?: number, afterId?: number, beforeId?: number }} filter times in ms
+ * @param {(n: number) => string} placeholder
+ */
+export function dropFilterSql (filter, placeholder) {
+  const clauses = []
+  const params = []
+  const add = (sql, value) => { params.push(value); clauses.push(sql.replace('?', placeholder(params.length))) }
+  if (filter.playerId !== undefined) add('d.player_id = ?', filter.playerId)
+  // Through the seed's unique hash to UNIQUE (server_seed_id, nonce): no index on the long hash in drops.
+  if (filter.serverSeedHash !== undefined) add('d.server_seed_id = (SELECT id FROM server_seeds WHERE hash = ?)', filter.serverSeedHash)
+  if (filter.nonce !== undefined) add('d.nonce = ?', filter.nonce)
+  if (filter.room !== undefined) add('d.room = ?', filter.room)
+  if (filter.status !== undefined) add('d.status = ?', filter.status)
+  if (filter.from !== undefined) add('d.created_at >= ?', filter.from)
+  if (filter.to !== undefined) add('d.created_at < ?', filter.to)
+  if (filter.afterId !== undefined) add('d.id > ?', filter.afterId)
+  if (filter.beforeId !== undefined) add('d.id < ?', filter.beforeId)
+  return { where: clauses.length ? 'WHERE ' + clauses.join(' AND ') : '', params }
+}

@@ -1,0 +1,82 @@
+/**
+ * The ledger schema, shared word for word by SQLite and PostgreSQL: only
+ * types and constructs both accept (TEXT, BIGINT, SMALLINT, INTEGER,
+ * DOUBLE PRECISION, CHECK, partial unique indexes). Money is integer credits
+ * in BIGINT; times are milliseconds since the Unix epoch in BIGINT.
+ * Migrations are append-only: never edit one that has shipped.
+ */
+export const MIGRATIONS = Object.freeze([
+  {
+    version: 1,
+    name: 'players, server seeds and drops',
+    sql: `
+CREATE TABLE players (
+  id          TEXT PRIMARY KEY,
+  token_hash  TEXT NOT NULL UNIQUE,
+  balance     BIGINT NOT NULL CHECK (balance >= 0),
+  client_seed TEXT NOT NULL,
+  created_at  BIGINT NOT NULL
+);
+
+CREATE TABLE server_seeds (
+  id          TEXT PRIMARY KEY,
+  player_id   TEXT NOT NULL REFERENCES players (id),
+  seed        TEXT NOT NULL,
+  hash        TEXT NOT NULL UNIQUE,
+  active      SMALLINT NOT NULL CHECK (active IN (0, 1)),
+  next_nonce  BIGINT NOT NULL DEFAULT 0 CHECK (next_nonce >= 0),
+  created_at  BIGINT NOT NULL,
+  revealed_at BIGINT,
+  CHECK ((active = 1 AND revealed_at IS NULL) OR (active = 0 AND revealed_at IS NOT NULL))
+);
+-- One active (committed, unrevealed) seed per player.
+CREATE UNIQUE INDEX server_seeds_active ON server_seeds (player_id) WHERE active = 1;
+CREATE INDEX server_seeds_player ON server_seeds (player_id, created_at);
+
+CREATE TABLE drops (
+  id               BIGINT PRIMARY KEY,
+  player_id        TEXT NOT NULL REFERENCES players (id),
+  room             TEXT NOT NULL,
+  rows             SMALLINT NOT NULL,
+  risk             TEXT NOT NULL,
+  engine_version   TEXT NOT NULL,
+  server_seed_id   TEXT NOT NULL REFERENCES server_seeds (id),
+  server_seed_hash TEXT NOT NULL,
+  client_seed      TEXT NOT NULL,
+  nonce            BIGINT NOT NULL CHECK (nonce >= 0),
+  drop_seed        TEXT NOT NULL,
+  bet              BIGINT NOT NULL CHECK (bet > 0),
+  bucket           SMALLINT,
+  multiplier       DOUBLE PRECISION,
+  payout           BIGINT CHECK (payout >= 0),
+  start_tick       BIGINT NOT NULL,
+  ticks            INTEGER,
+  state_hash       TEXT,
+  status           TEXT NOT NULL CHECK (status IN ('in_flight', 'settled')),
+  created_at       BIGINT NOT NULL,
+  settled_at       BIGINT,
+  -- A nonce is never used twice with the same server seed.
+  UNIQUE (server_seed_id, nonce),
+  CHECK ((status = 'in_flight' AND settled_at IS NULL AND payout IS NULL)
+      OR (status = 'settled' AND settled_at IS NOT NULL AND payout IS NOT NULL AND bucket IS NOT NULL
+          AND multiplier IS NOT NULL AND ticks IS NOT NULL AND state_hash IS NOT NULL))
+);
+-- Few, narrow indexes: every one is paid for on each of the thousands of
+-- inserts per second. Drops of a seed are found through server_seeds.hash
+-- (unique) and UNIQUE (server_seed_id, nonce); status is left out of
+-- drops_room so settling a drop does not move it in that index.
+CREATE INDEX drops_player ON drops (player_id, id);
+CREATE INDEX drops_created ON drops (created_at);
+CREATE INDEX drops_room ON drops (room);
+CREATE INDEX drops_in_flight ON drops (id) WHERE status = 'in_flight';
+`
+  }
+])
+
+/** Statement creating the bookkeeping table (same in both databases). */
+export const MIGRATIONS_TABLE = `
+CREATE TABLE IF NOT EXISTS schema_migrations (
+  version    INTEGER PRIMARY KEY,
+  name       TEXT NOT NULL,
+  applied_at BIGINT NOT NULL
+)`

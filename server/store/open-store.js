@@ -1,0 +1,21 @@
+import { SqliteStore } from './sqlite-store.js'
+import { PostgresStore } from './postgres-store.js'
+
+/**
+ * Opens the ledger named by the configuration and brings its schema up to
+ * date. Both stores implement the same async interface (see sqlite-store.js),
+ * so nothing above this line knows which one it has.
+ * @param {import('../config.js').Config['database']} database
+ */
+export async function openStore (database) {
+  const store = database.kind === 'postgres'
+    ? new PostgresStore({ url: database.url })
+    : new SqliteStore({ file: database.file })
+  try {
+    await store.migrate()
+  } catch (error) {
+    await store.close().catch(() => {})
+    throw error
+  }
+  return store
+}

@@ -1,0 +1,213 @@
+import pg from 'pg'
+import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
+import { dropFilterSql } from './drop-filter.js'
+
+const INT8_OID = 20
+const NUMERIC_OID = 1700
+/** Any number stable for this app: serialises migrations across processes. */
+const MIGRATION_LOCK = 0x706c696e6b6f
+
+/**
+ * BIGINT and NUMERIC (what SUM returns) as JS numbers: credits stay far below
+ * 2^53. Set per pool, so other users of `pg` in the process are unaffected.
+ */
+const types = {
+  getTypeParser (oid, format) {
+    if (oid === INT8_OID || oid === NUMERIC_OID) return (value) => (value === null ? null : Number(value))
+    return pg.types.getTypeParser(oid, format)
+  }
+}
+
+/**
+ * The ledger on PostgreSQL through a `pg` pool, with the same schema and
+ * interface as the SQLite store. A batch is a handful of statements whatever
+ * its size: rows travel as arrays and are expanded by unnest().
+ */
+export class PostgresStore {
+  /** @param {{ url: string, poolSize?: number }} options */
+  constructor ({ url, poolSize = 10 }) {
+    this.kind = 'postgres'
+    this.pool = new pg.Pool({ connectionString: url, max: poolSize, types })
+    // An idle client losing its connection must not crash the process; the next query reconnects.
+    this.pool.on('error', () => {})
+  }
+
+  /** Runs `work(client)` inside BEGIN/COMMIT on one pooled connection. */
+  async _transaction (work) {
+    const client = await this.pool.connect()
+    try {
+      await client.query('BEGIN')
+      const result = await work(client)
+      await client.query('COMMIT')
+      return result
+    } catch (error) {
+      await client.query('ROLLBACK').catch(() => {})
+      throw error
+    } finally {
+      client.release()
+    }
+  }
+
+  async migrate () {
+    await this._transaction(async (client) => {
+      await client.query('SELECT pg_advisory_xact_lock($1)', [MIGRATION_LOCK])
+      await client.query(MIGRATIONS_TABLE)
+      const { rows } = await client.query('SELECT version FROM schema_migrations')
+      const applied = new Set(rows.map((row) => Number(row.version)))
+      for (const migration of MIGRATIONS) {
+        if (applied.has(migration.version)) continue
+        await client.query(migration.sql)
+        await client.query('INSERT INTO schema_migrations (version, name, applied_at) VALUES ($1, $2, $3)',
+          [migration.version, migration.name, Date.now()])
+      }
+    })
+  }
+
+  async createPlayer ({ id, tokenHash, balance, clientSeed, createdAt, seed }) {
+    await this._transaction(async (client) => {
+      await client.query('INSERT INTO players (id, token_hash, balance, client_seed, created_at) VALUES ($1, $2, $3, $4, $5)',
+        [id, tokenHash, balance, clientSeed, createdAt])
+      await insertSeed(client, id, seed, createdAt)
+    })
+  }
+
+  async findPlayerIdByTokenHash (tokenHash) {
+    const { rows } = await this.pool.query('SELECT id FROM players WHERE token_hash = $1', [tokenHash])
+    return rows[0]?.id ?? null
+  }
+
+  async loadAccount (playerId) {
+    const { rows } = await this.pool.query(`SELECT p.id, p.balance, p.client_seed, p.created_at,
+        s.id AS seed_id, s.seed, s.hash, s.next_nonce
+      FROM players p JOIN server_seeds s ON s.player_id = p.id AND s.active = 1
+      WHERE p.id = $1`, [playerId])
+    return rows[0] ? accountFromRow(rows[0]) : null
+  }
+
+  /** @param {import('./records.js').LedgerBatch} batch */
+  async commitBatch (batch) {
+    await this._transaction(async (client) => {
+      const drops = batch.drops
+      if (drops.length > 0) {
+        await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
+            server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
+          SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+            nonce, drop_seed, bet, start_tick, 'in_flight', created_at
+          FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
+            $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
+            AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+              nonce, drop_seed, bet, start_tick, created_at)`,
+        columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
+          'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
+      }
+      const settlements = batch.settlements
+      if (settlements.length > 0) {
+        const { rowCount } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
+            multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
+          FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
+            AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
+          WHERE d.id = s.id AND d.status = 'in_flight'`,
+        columns(settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
+        if (rowCount !== settlements.length) throw new Error('a drop in the batch is not in flight; refusing to settle it twice')
+      }
+      if (batch.balances.length > 0) {
+        const { rowCount } = await client.query(`UPDATE players AS p SET balance = p.balance + b.delta
+          FROM unnest($1::text[], $2::bigint[]) AS b (id, delta) WHERE p.id = b.id`,
+        columns(batch.balances, ['playerId', 'delta']))
+        if (rowCount !== batch.balances.length) throw new Error('a player in the batch does not exist')
+      }
+      if (batch.nonces.length > 0) {
+        await client.query(`UPDATE server_seeds AS s SET next_nonce = GREATEST(s.next_nonce, n.next_nonce)
+          FROM unnest($1::text[], $2::bigint[]) AS n (id, next_nonce) WHERE s.id = n.id`,
+        columns(batch.nonces, ['seedId', 'nextNonce']))
+      }
+      if (batch.clientSeeds.length > 0) {
+        await client.query(`UPDATE players AS p SET client_seed = c.client_seed
+          FROM unnest($1::text[], $2::text[]) AS c (id, client_seed) WHERE p.id = c.id`,
+        columns(batch.clientSeeds, ['playerId', 'clientSeed']))
+      }
+    })
+  }
+
+  async rotateSeed ({ playerId, oldSeedId, newSeed, at }) {
+    await this._transaction(async (client) => {
+      const { rowCount } = await client.query(
+        'UPDATE server_seeds SET active = 0, revealed_at = $1 WHERE id = $2 AND player_id = $3 AND active = 1',
+        [at, oldSeedId, playerId])
+      if (rowCount !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
+      await insertSeed(client, playerId, newSeed, at)
+    })
+  }
+
+  async getDrop (id) {
+    const { rows } = await this.pool.query(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
+      JOIN server_seeds s ON s.id = d.server_seed_id WHERE d.id = $1`, [id])
+    return rows[0] ? toDropRecord(rows[0]) : null
+  }
+
+  /** The server seed behind a drop, revealed or not: for the operator's checks only, never returned to anyone. */
+  async getServerSeedOfDrop (id) {
+    const { rows } = await this.pool.query('SELECT s.seed FROM drops d JOIN server_seeds s ON s.id = d.server_seed_id WHERE d.id = $1', [id])
+    return rows[0]?.seed ?? null
+  }
+
+  async listDrops (filter) {
+    const { where, params } = dropFilterSql(filter, (n) => '$' + n)
+    const { rows } = await this.pool.query(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
+      JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id DESC LIMIT $${params.length + 1}`,
+    [...params, filter.limit])
+    return rows.map(toDropRecord)
+  }
+
+  async * iterateDrops (filter, pageSize = 1000) {
+    let afterId = 0
+    for (;;) {
+      const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n)
+      const { rows } = await this.pool.query(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
+        JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id LIMIT $${params.length + 1}`,
+      [...params, pageSize])
+      for (const row of rows) yield toDropRecord(row)
+      if (rows.length < pageSize) return
+      afterId = Number(rows[rows.length - 1].id)
+    }
+  }
+
+  async listInFlightDrops () {
+    const { rows } = await this.pool.query("SELECT * FROM drops WHERE status = 'in_flight' ORDER BY id")
+    return rows.map(toDropRecord)
+  }
+
+  async listSeeds (playerId) {
+    const { rows } = await this.pool.query(`SELECT id, hash, active, next_nonce, created_at, revealed_at,
+        CASE WHEN revealed_at IS NULL THEN NULL ELSE seed END AS revealed_seed
+      FROM server_seeds WHERE player_id = $1 ORDER BY created_at DESC, id`, [playerId])
+    return rows.map(seedFromRow)
+  }
+
+  async roomStats (room) {
+    const buckets = await this.pool.query(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
+      FROM drops WHERE room = $1 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room])
+    const inFlight = await this.pool.query("SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND status = 'in_flight'", [room])
+    return statsFromRows(buckets.rows, inFlight.rows[0].n)
+  }
+
+  async maxDropId () {
+    const { rows } = await this.pool.query('SELECT COALESCE(MAX(id), 0) AS id FROM drops')
+    return Number(rows[0].id)
+  }
+
+  async close () {
+    if (!this.pool.ended) await this.pool.end()
+  }
+}
+
+function insertSeed (client, playerId, seed, createdAt) {
+  return client.query('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES ($1, $2, $3, $4, 1, 0, $5)',
+    [seed.id, playerId, seed.seed, seed.hash, createdAt])
+}
+
+/** Row objects → one array per field, for unnest(). */
+function columns (rows, fields) {
+  return fields.map((field) => rows.map((row) => row[field]))
+}

@@ -1,0 +1,73 @@
+/**
+ * How the browser gets the engine (no browser needed): the pages, the
+ * repository's engine/ files at /engine/, seedrandom as an ES module at
+ * /vendor/seedrandom.js, and a Content-Security-Policy that admits the
+ * pages' inline import maps by hash and no other inline script.
+ */
+import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { createHash } from 'node:crypto'
+import { readFileSync, readdirSync } from 'node:fs'
+import { fileURLToPath } from 'node:url'
+import seedrandom from 'seedrandom'
+import { startArenaServer, CLIENT_DIR } from './helpers/arena-server.js'
+
+const ENGINE_DIR = fileURLToPath(new URL('../../engine/', import.meta.url))
+
+let server
+
+beforeAll(async () => {
+  server = await startArenaServer()
+})
+
+afterAll(async () => {
+  await server?.close()
+})
+
+describe('client assets', () => {
+  it('serves the player page at / and the operator page at /audit', async () => {
+    for (const [url, file] of [['/', 'index.html'], ['/audit', 'audit.html']]) {
+      const response = await server.api('GET', url)
+      expect(response.status).toBe(200)
+      expect(response.headers['content-type']).toMatch(/^text\/html/)
+      expect(response.text).toBe(readFileSync(`${CLIENT_DIR}/${file}`, 'utf8'))
+    }
+  })
+
+  it('serves every engine file unchanged at /engine/, and nothing else from there', async () => {
+    for (const name of readdirSync(ENGINE_DIR).filter((n) => n.endsWith('.js'))) {
+      const response = await server.api('GET', `/engine/${name}`)
+      expect(response.status, name).toBe(200)
+      expect(response.headers['content-type']).toMatch(/^text\/javascript/)
+      expect(response.text).toBe(readFileSync(`${ENGINE_DIR}/${name}`, 'utf8'))
+    }
+    for (const url of ['/engine/nope.js', '/engine/..%2Fpackage.json', '/engine/../server/app.js']) {
+      expect((await server.api('GET', url)).status, url).toBe(404)
+    }
+  })
+
+  it('wraps seedrandom as an ES module that draws the same numbers as Node\'s', async () => {
+    const response = await server.api('GET', '/vendor/seedrandom.js')
+    expect(response.status).toBe(200)
+    expect(response.headers['content-type']).toMatch(/^text\/javascript/)
+    expect(response.text).toContain('export default module.exports')
+    const module = await import(`data:text/javascript;base64,${Buffer.from(response.text).toString('base64')}`)
+    const fromBrowserCopy = module.default('a drop seed')
+    const fromNode = seedrandom('a drop seed')
+    for (let i = 0; i < 100; i++) expect(fromBrowserCopy()).toBe(fromNode())
+  })
+
+  it('admits the inline import maps by hash, and no other inline script', async () => {
+    const csp = (await server.api('GET', '/')).headers['content-security-policy']
+    const scriptSrc = csp.split(';').map((d) => d.trim()).find((d) => d.startsWith('script-src '))
+    expect(scriptSrc).toBeDefined()
+    expect(scriptSrc).not.toContain('unsafe-inline')
+    expect(scriptSrc).toContain("'self'")
+    for (const file of ['index.html', 'audit.html']) {
+      const html = readFileSync(`${CLIENT_DIR}/${file}`, 'utf8')
+      const inline = [...html.matchAll(/<script type="importmap">([\s\S]*?)<\/script>/g)].map((m) => m[1])
+      expect(inline, file).toHaveLength(1)
+      expect(JSON.parse(inline[0])).toEqual({ imports: { seedrandom: '/vendor/seedrandom.js' } })
+      expect(scriptSrc).toContain(`'sha256-${createHash('sha256').update(inline[0]).digest('base64')}'`)
+    }
+  })
+})

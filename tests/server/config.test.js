@@ -1,0 +1,62 @@
+import { describe, it, expect } from 'vitest'
+import { spawnSync } from 'node:child_process'
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+import { loadConfig, ConfigError, CONFIG_VARIABLES } from '../../server/config.js'
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..')
+
+describe('configuration', () => {
+  it('has the documented defaults', () => {
+    const config = loadConfig({})
+    expect(config).toMatchObject({
+      port: 8080,
+      host: '0.0.0.0',
+      database: { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') },
+      operatorTokenGenerated: true,
+      snapshotHz: 20,
+      startingBalance: 100000,
+      minBet: 1,
+      maxBet: 1000000,
+      logLevel: 'info',
+      dropRate: 20,
+      wsMaxPayload: 4096
+    })
+    expect(config.operatorToken).toMatch(/^[0-9a-f]{64}$/)
+    expect(loadConfig({}).operatorToken).not.toBe(config.operatorToken)
+    expect(CONFIG_VARIABLES).toContain('SNAPSHOT_HZ')
+  })
+
+  it('parses database URLs', () => {
+    expect(loadConfig({ DATABASE_URL: 'sqlite:/tmp/x.sqlite' }).database).toEqual({ kind: 'sqlite', file: '/tmp/x.sqlite' })
+    expect(loadConfig({ DATABASE_URL: 'sqlite::memory:' }).database).toEqual({ kind: 'sqlite', file: ':memory:' })
+    expect(loadConfig({ DATABASE_URL: 'postgres://u:p@db:5432/plinko' }).database).toEqual({ kind: 'postgres', url: 'postgres://u:p@db:5432/plinko' })
+    expect(loadConfig({ DATABASE_URL: 'postgresql://db/plinko' }).database.kind).toBe('postgres')
+  })
+
+  it('reports every invalid variable at once and never echoes secrets', () => {
+    let error
+    try {
+      loadConfig({ PORT: '80a', SNAPSHOT_HZ: '7', MIN_BET: '0', LOG_LEVEL: 'loud', OPERATOR_TOKEN: 'short-secret', DATABASE_URL: 'mysql://secret@x' })
+    } catch (e) { error = e }
+    expect(error).toBeInstanceOf(ConfigError)
+    expect(error.problems).toHaveLength(6)
+    expect(error.message).toMatch(/PORT="80a"/)
+    expect(error.message).toMatch(/SNAPSHOT_HZ="7": must be one of 1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60/)
+    expect(error.message).not.toContain('short-secret')
+    expect(error.message).not.toContain('mysql://secret')
+    expect(() => loadConfig({ MIN_BET: '10', MAX_BET: '5' })).toThrow(/MAX_BET must be >= MIN_BET/)
+  })
+
+  it('makes `npm start` exit non-zero with a clear message on bad configuration', () => {
+    const result = spawnSync(process.execPath, [path.join(ROOT, 'server/server.js')], {
+      env: { ...process.env, PORT: 'eighty', STARTING_BALANCE: '-1' },
+      encoding: 'utf8',
+      timeout: 30_000
+    })
+    expect(result.status).toBe(1)
+    expect(result.stderr).toContain('invalid configuration')
+    expect(result.stderr).toContain('PORT="eighty"')
+    expect(result.stderr).toContain('STARTING_BALANCE')
+  })
+})

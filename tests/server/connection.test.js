@@ -1,0 +1,102 @@
+import { describe, it, expect } from 'vitest'
+import { EventEmitter } from 'node:events'
+import { Connection } from '../../server/realtime/connection.js'
+import { createMessageParser } from '../../server/realtime/message-schemas.js'
+import { createMetrics } from '../../server/metrics.js'
+
+/** A stand-in for a ws WebSocket whose send queue the test controls. */
+function fakeSocket () {
+  const socket = new EventEmitter()
+  socket.bufferedAmount = 0
+  socket.sent = []
+  socket.closedWith = null
+  socket.send = (data) => socket.sent.push(data)
+  socket.close = (code, reason) => { socket.closedWith = { code, reason } }
+  socket.ping = () => {}
+  socket.terminate = () => { socket.closedWith = { code: 'terminated' } }
+  return socket
+}
+
+function setup () {
+  const socket = fakeSocket()
+  const metrics = createMetrics({ defaultMetrics: false })
+  const released = []
+  const arena = {
+    config: { minBet: 1, maxBet: 100 },
+    connected () {},
+    disconnected () {},
+    accounts: { release: (account) => released.push(account) },
+    join: () => ({ type: 'joined' }),
+    leave: () => 'r'
+  }
+  const connection = new Connection({ socket, arena, parseMessage: createMessageParser({ minBet: 1, maxBet: 100 }), metrics, log: { warn () {}, error () {} }, softLimit: 1000, hardLimit: 5000 })
+  const account = { playerId: 'p', balance: 10, clientSeed: 'c', seed: { hash: 'h', nextNonce: 0 }, connections: new Set() }
+  return { socket, metrics, connection, account, released }
+}
+
+const value = async (metrics, name) => (await metrics.registry.getSingleMetric(name).get()).values[0]?.value ?? 0
+
+describe('Connection backpressure', () => {
+  it('skips snapshots over the soft limit but still sends events', async () => {
+    const { socket, metrics, connection, account } = setup()
+    connection.authenticated(account)
+    const frame = Buffer.from([1, 0, 0, 0, 0, 0, 0])
+    connection.sendSnapshot(frame)
+    expect(socket.sent.at(-1)).toBe(frame)
+    socket.bufferedAmount = 1001
+    const sent = socket.sent.length
+    connection.sendSnapshot(frame)
+    connection.sendSnapshot(frame)
+    expect(socket.sent.length).toBe(sent)
+    expect(await value(metrics, 'plinko_snapshots_skipped_total')).toBe(2)
+    connection.sendEvent('{"type":"settled"}', 'settled')
+    expect(socket.sent.at(-1)).toBe('{"type":"settled"}')
+    expect(socket.closedWith).toBeNull()
+  })
+
+  it('closes a client over the hard limit with 1013 E_SLOW_CONSUMER and sends it nothing more', async () => {
+    const { socket, metrics, connection, account, released } = setup()
+    connection.authenticated(account)
+    socket.bufferedAmount = 5001
+    connection.sendSnapshot(Buffer.from([1]))
+    expect(socket.closedWith).toEqual({ code: 1013, reason: 'E_SLOW_CONSUMER' })
+    expect(await value(metrics, 'plinko_ws_slow_consumers_closed_total')).toBe(1)
+    expect(released).toEqual([account])
+    const sent = socket.sent.length
+    socket.bufferedAmount = 0
+    connection.sendEvent('{}', 'x')
+    expect(socket.sent.length).toBe(sent)
+
+    const other = setup()
+    other.connection.authenticated(other.account)
+    other.socket.bufferedAmount = 5001
+    other.connection.sendEvent('{"type":"dropped"}', 'dropped')
+    expect(other.socket.closedWith.code).toBe(1013)
+  })
+
+  it('handles messages that arrived before authentication, in order, and refuses a flood of them', () => {
+    const { socket, connection, account } = setup()
+    socket.emit('message', Buffer.from('{"type":"ping","ref":1}'), false)
+    socket.emit('message', Buffer.from('{"type":"ping","ref":2}'), false)
+    expect(socket.sent).toEqual([])
+    connection.authenticated(account)
+    const replies = socket.sent.map((text) => JSON.parse(text))
+    expect(replies.map((m) => [m.type, m.ref])).toEqual([['welcome', undefined], ['pong', 1], ['pong', 2]])
+
+    const flooded = setup()
+    for (let i = 0; i < 40; i++) flooded.socket.emit('message', Buffer.from('{"type":"ping"}'), false)
+    expect(flooded.socket.closedWith.code).toBe(1008)
+  })
+
+  it('terminates a peer that missed a heartbeat', () => {
+    const { socket, connection, account } = setup()
+    connection.authenticated(account)
+    connection.heartbeat()
+    expect(socket.closedWith).toBeNull()
+    socket.emit('pong')
+    connection.heartbeat()
+    expect(socket.closedWith).toBeNull()
+    connection.heartbeat()
+    expect(socket.closedWith).toEqual({ code: 'terminated' })
+  })
+})

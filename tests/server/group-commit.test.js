@@ -1,0 +1,99 @@
+import { describe, it, expect } from 'vitest'
+import { GroupCommit, toLedgerBatch } from '../../server/ledger/group-commit.js'
+
+/** A store whose commits the test resolves or rejects one at a time. */
+function manualStore () {
+  const pending = []
+  let active = 0
+  let maxActive = 0
+  return {
+    pending,
+    get maxActive () { return maxActive },
+    commitBatch (batch) {
+      active++
+      maxActive = Math.max(maxActive, active)
+      return new Promise((resolve, reject) => pending.push({ batch, resolve: () => { active--; resolve() }, reject: (e) => { active--; reject(e) } }))
+    }
+  }
+}
+
+const drop = (id, playerId = 'p', extra = {}) => ({ id, playerId, roomId: '8-low', rows: 8, risk: 'low', engineVersion: 'v', seedId: 's-' + playerId, serverSeedHash: 'h', clientSeed: 'c', nonce: id, dropSeed: 'd' + id, bet: 10 * id, startTick: id, createdAt: 0, clientSeedChange: null, void: false, ...extra })
+const flushMicrotasks = () => new Promise((resolve) => setImmediate(resolve))
+
+describe('GroupCommit', () => {
+  it('writes one transaction per tick, strictly in order, one at a time, and reports each after it commits', async () => {
+    const store = manualStore()
+    const events = []
+    const ledger = new GroupCommit({ store, onCommitted: (b) => events.push(['ok', b.drops.map((d) => d.id)]), onFailed: (b) => events.push(['failed', b.drops.map((d) => d.id)]) })
+    ledger.addDrop(drop(1))
+    ledger.addDrop(drop(2))
+    ledger.flush()
+    ledger.flush() // nothing new: no empty transaction
+    ledger.addDrop(drop(3))
+    ledger.flush()
+    const job = ledger.run(async () => { events.push(['job']); return 42 })
+    ledger.addDrop(drop(4))
+    ledger.flush()
+    await flushMicrotasks()
+    expect(store.pending).toHaveLength(1)
+    expect(store.pending[0].batch.drops.map((d) => d.id)).toEqual([1, 2])
+    expect(events).toEqual([])
+    store.pending[0].resolve()
+    await flushMicrotasks()
+    store.pending[1].reject(new Error('disk full'))
+    expect(await job).toBe(42)
+    await flushMicrotasks()
+    store.pending[2].resolve()
+    await ledger.drain()
+    expect(events).toEqual([['ok', [1, 2]], ['failed', [3]], ['job'], ['ok', [4]]])
+    expect(store.maxActive).toBe(1)
+  })
+
+  it('merges the ticks that end while a slow commit runs into the next transaction', async () => {
+    const store = manualStore()
+    const committed = []
+    const ledger = new GroupCommit({ store, onCommitted: (b) => committed.push(b.drops.map((d) => d.id)), onFailed: () => {} })
+    ledger.addDrop(drop(1))
+    ledger.flush() // tick 1: written at once
+    for (let tick = 2; tick <= 4; tick++) {
+      ledger.addDrop(drop(tick))
+      ledger.flush() // ticks 2..4 end while tick 1 is being written
+    }
+    await flushMicrotasks()
+    expect(store.pending).toHaveLength(1)
+    store.pending[0].resolve()
+    await flushMicrotasks()
+    expect(store.pending).toHaveLength(2)
+    expect(store.pending[1].batch.drops.map((d) => d.id)).toEqual([2, 3, 4])
+    store.pending[1].resolve()
+    await ledger.drain()
+    expect(committed).toEqual([[1], [2, 3, 4]])
+  })
+
+  it('drops settlements of drops whose own record failed', async () => {
+    const store = manualStore()
+    const committed = []
+    const ledger = new GroupCommit({ store, onCommitted: (b) => committed.push(b), onFailed: () => {} })
+    const voided = drop(1, 'p', { void: true })
+    ledger.addSettlement({ drop: voided, bucket: 0, multiplier: 1, payout: 1, ticks: 1, stateHash: 'x', settledAt: 0, attempts: 0 })
+    ledger.addSettlement({ drop: drop(2), bucket: 0, multiplier: 1, payout: 1, ticks: 1, stateHash: 'x', settledAt: 0, attempts: 0 })
+    ledger.flush()
+    await flushMicrotasks()
+    expect(store.pending[0].batch.settlements.map((s) => s.id)).toEqual([2])
+    store.pending[0].resolve()
+    await ledger.drain()
+    expect(committed).toHaveLength(1)
+  })
+
+  it('nets balances per player and keeps the highest nonce per seed', () => {
+    const rows = toLedgerBatch({
+      drops: [drop(1, 'a'), drop(2, 'a', { clientSeedChange: { previous: 'c0' }, clientSeed: 'new' }), drop(3, 'b')],
+      settlements: [{ drop: drop(9, 'a'), bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }]
+    })
+    expect(rows.balances).toEqual([{ playerId: 'a', delta: -10 - 20 + 500 }, { playerId: 'b', delta: -30 }])
+    expect(rows.nonces).toEqual([{ seedId: 's-a', nextNonce: 3 }, { seedId: 's-b', nextNonce: 4 }])
+    expect(rows.clientSeeds).toEqual([{ playerId: 'a', clientSeed: 'new' }])
+    expect(rows.settlements).toEqual([{ id: 9, bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }])
+    expect(rows.drops[0]).toMatchObject({ id: 1, room: '8-low', serverSeedId: 's-a', dropSeed: 'd1' })
+  })
+})

@@ -1,0 +1,86 @@
+import { buildApp } from '../../../server/app.js'
+import { loadConfig } from '../../../server/config.js'
+import { openStore } from '../../../server/store/open-store.js'
+import { GameClient } from './game-client.js'
+
+export const OPERATOR_TOKEN = 'operator-token-for-tests-0123456789'
+/** Wall-clock ticks per second in tests: three times real time, same outcomes. */
+export const TEST_TICK_RATE = 180
+
+/**
+ * A full server on a loopback port over `database`, with test-friendly
+ * limits. `env` overrides configuration variables; `wrapStore` may wrap the
+ * opened store (to inject failures).
+ * @param {{ url: string }} database from storeBackend().newDatabase()
+ * @param {{ env?: Record<string, string>, wrapStore?: (store: any) => any, tickRate?: number }} [options]
+ */
+export async function startServer (database, { env = {}, wrapStore, tickRate = TEST_TICK_RATE } = {}) {
+  const config = loadConfig({
+    DATABASE_URL: database.url,
+    OPERATOR_TOKEN,
+    LOG_LEVEL: 'silent',
+    HTTP_RATE_LIMIT: '1000000',
+    SESSION_RATE_LIMIT: '1000000',
+    CLIENT_DIR: '/nonexistent/plinko-client',
+    ...env
+  })
+  let store
+  if (wrapStore) store = wrapStore(await openStore(config.database))
+  const app = await buildApp(config, { store, tickRate, logger: false })
+  await app.listen({ port: 0, host: '127.0.0.1' })
+  const { port } = app.server.address()
+  const clients = []
+  return {
+    app,
+    config,
+    arena: app.arena,
+    port,
+    /** app.inject with an optional bearer token; returns { status, body, headers, text }. */
+    async api (method, url, { token, body } = {}) {
+      const response = await app.inject({ method, url, payload: body, headers: token ? { authorization: `Bearer ${token}` } : {} })
+      let json
+      try { json = response.json() } catch {}
+      return { status: response.statusCode, body: json, headers: response.headers, text: response.body }
+    },
+    /** A new guest session. */
+    async session () {
+      const response = await app.inject({ method: 'POST', url: '/api/session' })
+      if (response.statusCode !== 201) throw new Error(`session: ${response.statusCode} ${response.body}`)
+      return response.json()
+    },
+    wsUrl (token) {
+      return `ws://127.0.0.1:${port}/ws${token === undefined ? '' : `?token=${token}`}`
+    },
+    /** A connected client (welcome received), closed with the server. */
+    async connect (token) {
+      const client = await GameClient.connect(this.wsUrl(token))
+      clients.push(client)
+      return client
+    },
+    /** A session plus a client that has joined `room`. */
+    async player (room) {
+      const session = await this.session()
+      const client = await this.connect(session.token)
+      if (room) {
+        client.send({ type: 'join', room })
+        client.joined = await client.take('joined')
+      }
+      return { session, client, token: session.token }
+    },
+    async close () {
+      for (const client of clients) await client.close().catch(() => {})
+      await app.close()
+    }
+  }
+}
+
+/** Polls `check` until it returns a truthy value. */
+export async function eventually (check, { timeoutMs = 30_000, intervalMs = 20 } = {}) {
+  const deadline = Date.now() + timeoutMs
+  for (;;) {
+    const value = await check()
+    if (value) return value
+    if (Date.now() > deadline) throw new Error('condition not met in time')
+    await new Promise((resolve) => setTimeout(resolve, intervalMs))
+  }
+}

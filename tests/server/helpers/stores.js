@@ -1,0 +1,70 @@
+import fs from 'node:fs'
+import os from 'node:os'
+import path from 'node:path'
+import Database from 'better-sqlite3'
+import pg from 'pg'
+import { startPostgres } from './postgres.js'
+
+/** The store kinds every ledger test runs against (describe.each). */
+export const STORE_KINDS = ['sqlite', 'postgres']
+
+/**
+ * One backend per test file: setup() in beforeAll, teardown() in afterAll.
+ * newDatabase() gives an empty database (a temp SQLite file, or a fresh
+ * PostgreSQL database) as a config `database` entry plus its DATABASE_URL;
+ * query() reads it directly, bypassing the server, for cross-checks.
+ * @param {'sqlite' | 'postgres'} kind
+ */
+export function storeBackend (kind) {
+  return kind === 'postgres' ? postgresBackend() : sqliteBackend()
+}
+
+function sqliteBackend () {
+  let dir
+  let count = 0
+  return {
+    kind: 'sqlite',
+    async setup () { dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-sqlite-')) },
+    async teardown () { fs.rmSync(dir, { recursive: true, force: true }) },
+    async newDatabase () {
+      const file = path.join(dir, `ledger-${count++}.sqlite`)
+      return { url: `sqlite:${file}`, database: { kind: 'sqlite', file } }
+    },
+    async query (database, sql, params = []) {
+      const db = new Database(database.file)
+      try {
+        const statement = db.prepare(sql.replace(/\$\d+/g, '?'))
+        return statement.reader ? statement.all(...params) : (statement.run(...params), [])
+      } finally {
+        db.close()
+      }
+    }
+  }
+}
+
+/** BIGINT and NUMERIC as numbers, like SQLite returns them. */
+const numericTypes = {
+  getTypeParser: (oid, format) => (oid === 20 || oid === 1700 ? Number : pg.types.getTypeParser(oid, format))
+}
+
+function postgresBackend () {
+  let server
+  return {
+    kind: 'postgres',
+    async setup () { server = await startPostgres() },
+    async teardown () { await server?.stop() },
+    async newDatabase () {
+      const url = await server.createDatabase()
+      return { url, database: { kind: 'postgres', url } }
+    },
+    async query (database, sql, params = []) {
+      const client = new pg.Client({ connectionString: database.url, types: numericTypes })
+      await client.connect()
+      try {
+        return (await client.query(sql, params)).rows
+      } finally {
+        await client.end()
+      }
+    }
+  }
+}

@@ -1,0 +1,16 @@
+import { defineConfig } from 'vitest/config'
+
+/**
+ * End-to-end tests: the real server and the browser client in Debian's
+ * headless Chromium (playwright-core). `npm run test:e2e`. Files run one
+ * at a time: each drives a browser and a 60 Hz server, and CI machines are small.
+ */
+export default defineConfig({
+  test: {
+    include: ['tests/e2e/**/*.test.js'],
+    testTimeout: 240_000,
+    hookTimeout: 360_000,
+    pool: 'forks',
+    fileParallelism: false
+  }
+})
