@@ -11,9 +11,13 @@ const usage = `usage:
   ${benchUsage}`
 
 const [name, ...rest] = process.argv.slice(2)
-if (name === undefined || name === 'help' || name === '--help' || name === '-h') {
+if (name === 'help' || name === '--help' || name === '-h') {
   process.stdout.write(usage + '\n')
-  process.exit(name === undefined ? 2 : 0)
+  process.exit(0)
+}
+if (name === undefined) {
+  process.stderr.write(`plinko: a command is required\n${usage}\n`)
+  process.exit(2)
 }
 const command = commands[name]
 try {
