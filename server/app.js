@@ -7,6 +7,8 @@ import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { openStore } from './store/open-store.js'
 import { settleInterruptedDrops } from './ledger/recovery.js'
+import { openSharedLedger } from './cluster/shared-ledger.js'
+import { ClusterNode } from './cluster/cluster-node.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
@@ -41,13 +43,20 @@ export async function buildApp (config, options = {}) {
     },
     trustProxy: config.trustProxy,
     bodyLimit: 16 * 1024,
+    // Errors raised before routing (a malformed URL such as '/%') get a named code too.
+    frameworkErrors: (error, request, reply) => {
+      reply.code(400).send({ code: 'E_BAD_REQUEST', message: error.message })
+    },
     // Extra properties are an error, never silently dropped.
     ajv: { customOptions: { removeAdditional: false } }
   })
 
-  const store = options.store ?? await openStore(config.database)
+  // Clustered (REDIS_URL): the shared ledger decides balances, nonces and drop ids (server/cluster/).
+  const clustered = Boolean(config.redisUrl)
+  const store = options.store ?? (clustered ? await openSharedLedger(config.database) : await openStore(config.database))
   try {
-    await settleInterruptedDrops(store, app.log)
+    // Clustered, other processes' drops are in flight too: the cluster settles only rooms nobody owns.
+    if (!clustered) await settleInterruptedDrops(store, app.log)
   } catch (error) {
     await store.close().catch(() => {})
     throw error
@@ -55,6 +64,20 @@ export async function buildApp (config, options = {}) {
   const metrics = createMetrics()
   const arena = new Arena({ config, store, metrics, log: app.log, firstDropId: (await store.maxDropId()) + 1, tickRate: options.tickRate })
   app.decorate('arena', arena)
+  if (clustered) {
+    arena.cluster = new ClusterNode({ arena, store, config, log: app.log })
+    try {
+      await arena.cluster.start()
+    } catch (error) {
+      await arena.cluster.close().catch(() => {})
+      await store.close().catch(() => {})
+      throw error
+    }
+    app.addHook('onListen', async () => {
+      const address = app.server.address()
+      if (address && typeof address === 'object') arena.cluster.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
+    })
+  }
 
   if (config.operatorTokenGenerated) {
     app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
@@ -100,6 +123,7 @@ export async function buildApp (config, options = {}) {
   app.addHook('onReady', async () => arena.start())
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
+    await arena.cluster?.close()
     await store.close()
   })
   return app

@@ -9,8 +9,6 @@ import { gameError } from './errors.js'
 
 /** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
 const MAX_SETTLE_ATTEMPTS = 5
-/** Ping every connection this often (in ticks) and drop those that did not answer the last ping. */
-const HEARTBEAT_TICKS = 30 * 60
 
 /**
  * @typedef {object} Drop one bet on one ball, from acceptance to settlement
@@ -53,15 +51,24 @@ export class Arena {
     this.accounts = new AccountBook({ store, limits: { dropRate: config.dropRate, dropBurst: config.dropBurst } })
     this.rooms = new RoomRegistry({
       snapshotEvery: 60 / config.snapshotHz,
-      onChange: () => metrics.rooms.set(this.rooms.size)
+      onChange: (room) => {
+        metrics.rooms.set(this.rooms.size)
+        if (this.cluster && this.rooms.get(room.id) !== room) this.cluster.roomDisposed(room.id)
+      }
     })
+    /** Set when clustered (server/cluster/cluster-node.js): room leases, directory, takeover. */
+    this.cluster = null
+    /** The shared ledger hands out drop ids and nonces when clustered (server/cluster/shared-ledger.js). */
+    this.sharedLedger = store.shared ? store : null
     this.ledger = new GroupCommit({
       store,
       metrics,
       log,
-      onCommitted: (batch) => this._committed(batch),
+      onCommitted: (batch, outcome) => this._committed(batch, outcome),
       onFailed: (batch, error) => this._failed(batch, error)
     })
+    /** Ping every connection this often (in 60 Hz ticks, from WS_HEARTBEAT_MS) and drop those that did not answer the last ping. */
+    this.heartbeatTicks = Math.max(1, Math.round(config.wsHeartbeatMs * 60 / 1000))
     this.scheduler = new TickScheduler({ onTick: () => this.tick(), tickRate, maxCatchUp: config.maxCatchUpTicks, metrics, log })
     /** @type {Set<import('./realtime/connection.js').Connection>} */
     this.connections = new Set()
@@ -93,7 +100,7 @@ export class Arena {
     }
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
-    if (this.scheduler.ticks % HEARTBEAT_TICKS === HEARTBEAT_TICKS - 1) {
+    if (this.scheduler.ticks % this.heartbeatTicks === this.heartbeatTicks - 1) {
       for (const connection of this.connections) connection.heartbeat()
     }
   }
@@ -116,9 +123,17 @@ export class Arena {
   /**
    * @param {import('./realtime/connection.js').Connection} connection
    * @param {unknown} roomId
-   * @returns {object} the `joined` message
+   * @returns {object | Promise<object>} the `joined` message (a promise when clustered and the room runs elsewhere)
    */
   join (connection, roomId) {
+    if (!this.accepting) throw gameError('E_UNAVAILABLE')
+    // Clustered: a room not running here is claimed first (async), or the reply says where it runs.
+    if (this.cluster && !this.rooms.get(/** @type {string} */ (roomId))) return this.cluster.join(connection, roomId)
+    return this.joinLocal(connection, roomId)
+  }
+
+  /** Joins a room this process runs (or creates it). @param {any} connection @param {unknown} roomId */
+  joinLocal (connection, roomId) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
     const room = this.rooms.getOrCreate(roomId)
     if (connection.room && connection.room !== room) this.leave(connection)
@@ -167,16 +182,18 @@ export class Arena {
     if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
     if (bet > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${account.available} is lower than the bet ${bet}`)
 
+    const seed = account.seed
+    // Clustered, nonces and drop ids come from blocks reserved in the shared ledger.
+    const nonce = this.sharedLedger ? this.sharedLedger.takeNonce(seed) : seed.nextNonce++ // never given back, even if the drop fails to commit
+    const id = this.sharedLedger ? this.sharedLedger.takeDropId() : this.nextDropId++
     let clientSeedChange = null
     if (clientSeed !== undefined && clientSeed !== account.clientSeed) {
       clientSeedChange = { previous: account.clientSeed }
       account.clientSeed = clientSeed
     }
-    const seed = account.seed
-    const nonce = seed.nextNonce++ // never given back, even if the drop fails to commit
     /** @type {Drop} */
     const drop = {
-      id: this.nextDropId++,
+      id,
       account,
       playerId: account.playerId,
       room,
@@ -220,12 +237,23 @@ export class Arena {
     })
   }
 
-  /** A batch is durable: apply it to the accounts and tell the rooms. */
-  _committed ({ drops, settlements }) {
+  /**
+   * A batch is durable: apply it to the accounts and tell the rooms. With the
+   * shared ledger (clustered) `outcome` says which drops the database refused
+   * and gives the committed balances, which replace the cached ones.
+   * @param {{ drops: Drop[], settlements: any[] }} batch
+   * @param {{ rejected: Map<number, string>, settled: Set<number>, balances: Map<string, number> }} [outcome]
+   */
+  _committed ({ drops, settlements }, outcome) {
     for (const drop of drops) {
       const account = drop.account
+      const refused = outcome?.rejected.get(drop.id)
+      if (refused) {
+        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
+        continue
+      }
       account.reserved -= drop.bet
-      account.balance -= drop.bet
+      account.balance = outcome ? outcome.balances.get(account.playerId) ?? account.balance - drop.bet : account.balance - drop.bet
       drop.announced = true
       drop.room.show(drop)
       this.metrics.drops.inc()
@@ -247,7 +275,7 @@ export class Arena {
     for (const settlement of settlements) {
       const { drop, payout } = settlement
       const account = drop.account
-      account.balance += payout
+      account.balance = outcome ? outcome.balances.get(account.playerId) ?? account.balance : account.balance + payout
       this.accounts.release(account)
       this.metrics.settles.inc()
       this.metrics.payoutTotal.inc(payout)
@@ -270,15 +298,7 @@ export class Arena {
   /** A batch was rolled back: refuse its drops (nothing was debited) and retry its settlements. */
   _failed ({ drops, settlements }, error) {
     this.log.error({ err: error, drops: drops.length, settlements: settlements.length }, 'ledger commit failed')
-    for (let i = drops.length - 1; i >= 0; i--) {
-      const drop = drops[i]
-      const account = drop.account
-      drop.room.discard(drop)
-      account.reserved -= drop.bet
-      if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
-      this.accounts.release(account)
-      this._sendToOwner(drop, 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
-    }
+    for (let i = drops.length - 1; i >= 0; i--) this._refuse(drops[i], 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
     for (const settlement of settlements) {
       if (++settlement.attempts < MAX_SETTLE_ATTEMPTS) {
         this.ledger.addSettlement(settlement)
@@ -289,6 +309,16 @@ export class Arena {
       this.accounts.release(settlement.drop.account)
       this._sendToOwner(settlement.drop, 'E_INTERNAL', 'the settlement is delayed; it will be credited when the server restarts')
     }
+  }
+
+  /** A drop that was not recorded: its ball is forgotten, nothing was debited. */
+  _refuse (drop, code, message) {
+    const account = drop.account
+    drop.room.discard(drop)
+    account.reserved -= drop.bet
+    if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
+    this.accounts.release(account)
+    this._sendToOwner(drop, code, message)
   }
 
   /**

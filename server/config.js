@@ -30,8 +30,18 @@ const VARIABLES = {
   MAX_CATCH_UP_TICKS: { default: '10', parse: integer(1, 600) },
   HTTP_RATE_LIMIT: { default: '600', parse: integer(1, 1e9) },
   SESSION_RATE_LIMIT: { default: '30', parse: integer(1, 1e9) },
+  WS_MAX_CONNECTIONS: { default: '10000', parse: integer(1, 1e7) },
+  WS_MAX_CONNECTIONS_PER_IP: { default: '50', parse: integer(1, 1e7) },
+  WS_MESSAGE_RATE: { default: '100', parse: integer(1, 1e6) },
+  WS_MESSAGE_BURST: { default: '200', parse: integer(1, 1e6) },
+  WS_HEARTBEAT_MS: { default: '30000', parse: integer(100, 3600000) },
+  SHUTDOWN_TIMEOUT_MS: { default: '10000', parse: integer(100, 3600000) },
   TRUST_PROXY: { default: 'false', parse: oneOf(['true', 'false'], (v) => v === 'true') },
-  CLIENT_DIR: { default: path.join(ROOT, 'client'), parse: (v) => path.resolve(nonEmpty(v)) }
+  CLIENT_DIR: { default: path.join(ROOT, 'client'), parse: (v) => path.resolve(nonEmpty(v)) },
+  // Clustering (server/cluster/): REDIS_URL turns it on; see the README's "Scaling out".
+  REDIS_URL: { default: '', parse: redisUrl, secret: true },
+  PUBLIC_URL: { default: '', parse: publicUrl },
+  LEASE_TTL_MS: { default: '5000', parse: integer(300, 600_000) }
 }
 
 /**
@@ -48,7 +58,16 @@ const VARIABLES = {
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
  * @property {number} sessionRateLimit new sessions per IP per minute
+ * @property {number} wsMaxConnections open WebSockets in total
+ * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
+ * @property {number} wsMessageRate frames per second per connection (token bucket refill)
+ * @property {number} wsMessageBurst token bucket capacity for frames per connection
+ * @property {number} wsHeartbeatMs ping interval; a peer that misses a ping is dropped
+ * @property {number} shutdownTimeoutMs bound on a graceful shutdown, after which the process exits anyway
  * @property {boolean} trustProxy @property {string} clientDir
+ * @property {string} redisUrl '' = one process alone; set = clustered (server/cluster/)
+ * @property {string} publicUrl how clients reach this process ('' = http://HOST:PORT once listening)
+ * @property {number} leaseTtlMs room lease lifetime; a dead process's rooms move after at most this
  */
 
 export class ConfigError extends Error {
@@ -81,6 +100,9 @@ export function loadConfig (env = process.env) {
   }
   if (problems.length === 0 && values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
   if (problems.length === 0 && values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  if (problems.length === 0 && values.REDIS_URL && values.DATABASE_URL?.kind !== 'postgres') {
+    problems.push('REDIS_URL (clustering) needs DATABASE_URL=postgres://…: the processes share one ledger')
+  }
   if (problems.length > 0) throw new ConfigError(problems)
 
   const generated = values.OPERATOR_TOKEN === ''
@@ -104,8 +126,17 @@ export function loadConfig (env = process.env) {
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
+    wsMaxConnections: values.WS_MAX_CONNECTIONS,
+    wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,
+    wsMessageRate: values.WS_MESSAGE_RATE,
+    wsMessageBurst: values.WS_MESSAGE_BURST,
+    wsHeartbeatMs: values.WS_HEARTBEAT_MS,
+    shutdownTimeoutMs: values.SHUTDOWN_TIMEOUT_MS,
     trustProxy: values.TRUST_PROXY,
-    clientDir: values.CLIENT_DIR
+    clientDir: values.CLIENT_DIR,
+    redisUrl: values.REDIS_URL,
+    publicUrl: values.PUBLIC_URL,
+    leaseTtlMs: values.LEASE_TTL_MS
   })
 }
 
@@ -142,6 +173,23 @@ function nonEmpty (raw) {
 function operatorToken (raw) {
   if (raw !== '' && raw.length < 16) throw new Error('must be at least 16 characters (or unset to generate one)')
   return raw
+}
+
+/** '' (off) or redis:// / rediss:// */
+function redisUrl (raw) {
+  if (raw === '') return ''
+  if (!/^rediss?:\/\//.test(raw)) throw new Error('must be redis://[user:password@]host:port[/db] or rediss://…')
+  try { new URL(raw) } catch { throw new Error('is not a valid redis:// URL') } // eslint-disable-line no-new
+  return raw
+}
+
+/** '' or an absolute http(s) URL without a trailing slash (a path prefix is allowed: http://lb/n/node1). */
+function publicUrl (raw) {
+  if (raw === '') return ''
+  let url
+  try { url = new URL(raw) } catch { throw new Error('must be an absolute http:// or https:// URL') }
+  if (url.protocol !== 'http:' && url.protocol !== 'https:') throw new Error('must be an absolute http:// or https:// URL')
+  return raw.replace(/\/+$/, '')
 }
 
 /** '' → default SQLite file; sqlite:PATH; postgres://… or postgresql://… */

@@ -19,8 +19,13 @@ export const ERROR_CODES = Object.freeze({
   E_FORBIDDEN: { status: 403, message: 'not allowed' },
   E_NOT_FOUND: { status: 404, message: 'not found' },
   E_SLOW_CONSUMER: { status: 503, message: 'client is not reading fast enough', close: 1013 },
+  E_TOO_MANY_CONNECTIONS: { status: 429, message: 'too many WebSocket connections from this address or to this server; close one or try again later', close: 4429 },
   E_UNAVAILABLE: { status: 503, message: 'server is shutting down' },
-  E_INTERNAL: { status: 500, message: 'internal error' }
+  E_INTERNAL: { status: 500, message: 'internal error' },
+  // Clustering (server/cluster/): the reply to `join` carries `room`, and `owner` (a URL) or `retryAfterMs`.
+  E_WRONG_NODE: { status: 421, message: 'this room runs on another server process; reconnect to `owner` (its /ws) and join again' },
+  E_ROOM_MOVING: { status: 503, message: 'the process that ran this room stopped answering; retry after `retryAfterMs`' },
+  E_SEED_ROTATED: { status: 409, message: 'the server seed was rotated by another connection; reconnect to use the new one' }
 })
 
 /** A named, expected failure: its code decides the HTTP status and the protocol reply. */

@@ -4,7 +4,8 @@ import { buildApp } from './app.js'
 /**
  * Starts the server: reads the configuration from the environment, builds
  * the app and listens. SIGINT/SIGTERM close it gracefully (balls in flight
- * are settled, connections closed with 1001); a second signal exits at once.
+ * are settled, connections closed with 1001) within SHUTDOWN_TIMEOUT_MS;
+ * a second signal exits at once.
  */
 let config
 try {
@@ -31,6 +32,12 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
     if (closing) process.exit(1)
     closing = true
     app.log.info({ signal }, 'shutting down')
+    // Balls in flight are settled first (arena.close); what can still hold the
+    // close up is HTTP clients that never finish a request: do not wait for them.
+    setTimeout(() => {
+      app.log.error({ timeoutMs: config.shutdownTimeoutMs }, 'graceful shutdown timed out; exiting')
+      process.exit(1)
+    }, config.shutdownTimeoutMs).unref()
     app.close().then(() => process.exit(0), (error) => {
       app.log.error({ err: error }, 'shutdown failed')
       process.exit(1)

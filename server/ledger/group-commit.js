@@ -15,7 +15,7 @@ export class GroupCommit {
   /**
    * @param {object} options
    * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<void> }} options.store
-   * @param {(batch: PendingBatch) => void} options.onCommitted
+   * @param {(batch: PendingBatch, outcome?: any) => void} options.onCommitted outcome: what the store's commitBatch returned
    * @param {(batch: PendingBatch, error: unknown) => void} options.onFailed
    * @param {import('../metrics.js').Metrics} [options.metrics]
    * @param {{ error: Function }} [options.log]
@@ -92,15 +92,17 @@ export class GroupCommit {
     // A drop whose own batch failed was never recorded: drop its settlement.
     batch.settlements = batch.settlements.filter((s) => !s.drop.void)
     const started = process.hrtime.bigint()
+    let outcome
     try {
-      await this.store.commitBatch(toLedgerBatch(batch))
+      // The shared ledger (clustered) returns what it refused and the committed balances.
+      outcome = await this.store.commitBatch(toLedgerBatch(batch))
     } catch (error) {
       this.metrics?.commitFailures.inc()
       this._callback(this.onFailed, batch, error)
       return
     }
     this.metrics?.commitDuration.observe(Number(process.hrtime.bigint() - started) / 1e9)
-    this._callback(this.onCommitted, batch)
+    this._callback(this.onCommitted, batch, outcome ?? undefined)
   }
 
   _callback (callback, batch, error) {

@@ -11,10 +11,12 @@ import { payoutFor } from '../fairness/payout.js'
  * and are left for the operator (logged).
  * @param {any} store
  * @param {{ info: Function, warn: Function, error: Function }} log
+ * @param {{ drops?: object[] }} [options] only these drops (as listInFlightDrops returns them)
  * @returns {Promise<{ settled: number, skipped: number }>}
  */
-export async function settleInterruptedDrops (store, log) {
-  const drops = await store.listInFlightDrops()
+export async function settleInterruptedDrops (store, log, { drops } = {}) {
+  // A clustered process passes the drops of one room it has just taken over (server/cluster/).
+  drops ??= await store.listInFlightDrops()
   if (drops.length === 0) return { settled: 0, skipped: 0 }
   const settlements = []
   const balances = new Map()
@@ -31,8 +33,10 @@ export async function settleInterruptedDrops (store, log) {
     settlements.push({ id: drop.id, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
     balances.set(drop.playerId, (balances.get(drop.playerId) ?? 0) + payout)
   }
+  let result
   if (settlements.length > 0) {
-    await store.commitBatch({
+    // The shared ledger (cluster) settles only drops still in flight and says which.
+    result = await store.commitBatch({
       drops: [],
       settlements,
       balances: [...balances].filter(([, delta]) => delta !== 0).map(([playerId, delta]) => ({ playerId, delta })),
@@ -40,6 +44,7 @@ export async function settleInterruptedDrops (store, log) {
       clientSeeds: []
     })
   }
-  log.warn({ settled: settlements.length, skipped }, 'settled drops interrupted by the last shutdown')
-  return { settled: settlements.length, skipped }
+  const settled = result?.settled ? result.settled.size : settlements.length
+  log.warn({ settled, skipped }, 'settled drops interrupted by the last shutdown')
+  return { settled, skipped }
 }

@@ -22,8 +22,9 @@ export class Connection {
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
    * @param {number} options.softLimit @param {number} options.hardLimit bytes
+   * @param {{ take: () => boolean, rate: number }} [options.messageLimiter] frames per second allowed (a TokenBucket)
    */
-  constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit }) {
+  constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit, messageLimiter = null }) {
     this.socket = socket
     this.arena = arena
     this.parseMessage = parseMessage
@@ -31,6 +32,7 @@ export class Connection {
     this.log = log
     this.softLimit = softLimit
     this.hardLimit = hardLimit
+    this.messageLimiter = messageLimiter
     /** @type {import('../ledger/accounts.js').Account | null} */
     this.account = null
     /** @type {import('../rooms/room.js').Room | null} */
@@ -79,6 +81,11 @@ export class Connection {
 
   _receive (data, isBinary) {
     if (this.closed) return
+    if (this.messageLimiter && !this.messageLimiter.take()) {
+      this.metrics.messagesIn.labels('rate_limited').inc()
+      this.sendError('E_RATE_LIMITED', `at most ${this.messageLimiter.rate} messages per second per connection`)
+      return
+    }
     let message
     try {
       if (isBinary) {
@@ -95,16 +102,32 @@ export class Connection {
       } else if (message === undefined && !isBinary) {
         this.metrics.messagesIn.labels('invalid').inc()
       }
-      this.sendError(error.code, error.message, message?.ref ?? error.ref)
+      this.sendError(error.code, error.message, message?.ref ?? error.ref, error.details)
     }
+  }
+
+  /** Reports a failed async request (GameError or not). */
+  _replyError (error, ref) {
+    if (!(error instanceof GameError)) {
+      this.log.error({ err: error }, 'message handler failed')
+      error = new GameError('E_INTERNAL')
+    }
+    this.sendError(error.code, error.message, ref, error.details)
   }
 
   _handle (message) {
     const arena = this.arena
     switch (message.type) {
-      case 'join':
-        this.sendJson(withRef(arena.join(this, message.room), message.ref))
+      case 'join': {
+        const joined = arena.join(this, message.room)
+        // Clustered, joining a room that runs nowhere yet is async (server/cluster/cluster-node.js).
+        if (typeof joined?.then === 'function') {
+          joined.then((reply) => this.sendJson(withRef(reply, message.ref)), (error) => this._replyError(error, message.ref))
+        } else {
+          this.sendJson(withRef(joined, message.ref))
+        }
         break
+      }
       case 'leave':
         this.sendJson(withRef({ type: 'left', room: arena.leave(this) }, message.ref))
         break
@@ -153,10 +176,13 @@ export class Connection {
     this.metrics.bytesOut.inc(frame.length)
   }
 
-  /** @param {string} code @param {string} [message] @param {any} [ref] */
-  sendError (code, message, ref) {
+  /**
+   * @param {string} code @param {string} [message] @param {any} [ref]
+   * @param {object} [details] extra fields, e.g. `room` and `owner` of E_WRONG_NODE
+   */
+  sendError (code, message, ref, details) {
     this.metrics.errors.labels(code).inc()
-    const error = { type: 'error', code, message: message ?? ERROR_CODES[code].message }
+    const error = { type: 'error', code, message: message ?? ERROR_CODES[code].message, ...details }
     if (ref !== undefined) error.ref = ref
     this.sendJson(error)
   }
@@ -169,7 +195,7 @@ export class Connection {
 
   // ---- lifecycle ------------------------------------------------------------
 
-  /** Called every 30 s by the arena: a peer that missed the previous ping is gone. */
+  /** Called every WS_HEARTBEAT_MS (30 s) by the arena: a peer that missed the previous ping is gone. */
   heartbeat () {
     if (!this.alive) {
       this.socket.terminate()

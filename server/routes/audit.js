@@ -8,7 +8,9 @@ import { boardOf, parseRoomId } from '../rooms/room-id.js'
 import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
 
 const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }
-const playerId = { type: 'string', minLength: 1, maxLength: 64 }
+/** Printable ASCII only: a NUL or control character is no id (and PostgreSQL refuses NUL in text). */
+const printable = '^[\\x20-\\x7e]*$'
+const playerId = { type: 'string', minLength: 1, maxLength: 64, pattern: printable }
 
 /**
  * The operator API (Authorization: Bearer OPERATOR_TOKEN): any drop with a
@@ -25,7 +27,7 @@ export default async function auditRoutes (app, { arena }) {
   app.get('/api/audit/drops/:id', {
     schema: {
       summary: 'A stored drop, its re-simulation from the stored seeds and whether they match',
-      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1 } }, required: ['id'] },
+      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
       response: {
         200: {
           type: 'object',
@@ -65,11 +67,11 @@ export default async function auditRoutes (app, { arena }) {
         type: 'object',
         properties: {
           player: playerId,
-          room: { type: 'string', maxLength: 32 },
+          room: { type: 'string', maxLength: 32, pattern: printable },
           from: timeParam,
           to: timeParam,
           limit: { type: 'integer', minimum: 1, maximum: 1000, default: 100 },
-          before: { type: 'integer', minimum: 1 }
+          before: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER }
         },
         additionalProperties: false
       },
@@ -88,7 +90,7 @@ export default async function auditRoutes (app, { arena }) {
         properties: {
           serverSeed: { type: 'string', minLength: 1, maxLength: 256 },
           clientSeed: { type: 'string', minLength: 1, maxLength: 64 },
-          nonce: { type: 'integer', minimum: 0 },
+          nonce: { type: 'integer', minimum: 0, maximum: Number.MAX_SAFE_INTEGER },
           rows: { type: 'integer', minimum: MIN_ROWS, maximum: MAX_ROWS, default: 16 },
           risk: { type: 'string', enum: [...RISKS], default: 'medium' }
         },
@@ -139,7 +141,7 @@ export default async function auditRoutes (app, { arena }) {
     const { player, serverSeedHash, format } = request.query
     if ((player === undefined) === (serverSeedHash === undefined)) throw gameError('E_BAD_REQUEST', 'give exactly one of player or serverSeedHash')
     const drops = store.iterateDrops({ playerId: player, serverSeedHash })
-    reply.header('content-disposition', `attachment; filename="drops-${player ?? serverSeedHash.slice(0, 16)}.${format === 'json' ? 'json' : 'ndjson'}"`)
+    reply.header('content-disposition', `attachment; filename="drops-${(player ?? serverSeedHash.slice(0, 16)).replace(/[^\w.-]/g, '_')}.${format === 'json' ? 'json' : 'ndjson'}"`)
     if (format === 'ndjson') {
       reply.type('application/x-ndjson')
       return reply.send(Readable.from(jsonLines(drops)))

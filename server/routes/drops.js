@@ -20,7 +20,7 @@ export default async function dropRoutes (app, { arena }) {
         type: 'object',
         properties: {
           limit: { type: 'integer', minimum: 1, maximum: 500, default: 50 },
-          before: { type: 'integer', minimum: 1 }
+          before: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER }
         },
         additionalProperties: false
       },
@@ -35,7 +35,7 @@ export default async function dropRoutes (app, { arena }) {
     preHandler: asPlayer,
     schema: {
       summary: 'One of the caller\'s drops',
-      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1 } }, required: ['id'] },
+      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
       response: { 200: dropRecord, ...errors(400, 401, 403, 404) }
     }
   }, async (request) => {

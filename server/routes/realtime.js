@@ -1,6 +1,8 @@
 import { Connection } from '../realtime/connection.js'
 import { createMessageParser } from '../realtime/message-schemas.js'
 import { playerIdForToken } from '../auth.js'
+import { ERROR_CODES, gameError } from '../errors.js'
+import { TokenBucket } from '../ledger/token-bucket.js'
 
 /**
  * GET /ws?token=TOKEN: the game's WebSocket. Browsers cannot set headers
@@ -14,35 +16,55 @@ import { playerIdForToken } from '../auth.js'
 export default async function realtimeRoutes (app, { arena }) {
   const { config, metrics } = arena
   const parseMessage = createMessageParser(config)
+  /** Open sockets per client IP (request.ip: honours TRUST_PROXY), and in total. */
+  const perIp = new Map()
+  let open = 0
   app.get('/ws', {
-    websocket: true,
     schema: {
       summary: 'WebSocket endpoint of the game protocol',
       querystring: { type: 'object', properties: { token: { type: 'string', maxLength: 128 } } }
+    },
+    // A plain GET (no Upgrade) gets a named error instead of the plugin's empty 404.
+    handler: async () => { throw gameError('E_BAD_REQUEST', 'GET /ws needs a WebSocket upgrade: connect with a WebSocket client to /ws?token=TOKEN') },
+    wsHandler: (socket, request) => {
+      // Listeners go on synchronously (inside Connection) so no frame is lost while the token is checked.
+      const connection = new Connection({
+        socket,
+        arena,
+        parseMessage,
+        metrics,
+        log: request.log,
+        softLimit: config.wsSoftBuffer,
+        hardLimit: config.wsHardBuffer,
+        messageLimiter: new TokenBucket({ rate: config.wsMessageRate, burst: config.wsMessageBurst })
+      })
+      const ip = request.ip
+      if (open >= config.wsMaxConnections || (perIp.get(ip) ?? 0) >= config.wsMaxConnectionsPerIp) {
+        connection.sendError('E_TOO_MANY_CONNECTIONS')
+        connection.close(ERROR_CODES.E_TOO_MANY_CONNECTIONS.close, 'E_TOO_MANY_CONNECTIONS')
+        return
+      }
+      open++
+      perIp.set(ip, (perIp.get(ip) ?? 0) + 1)
+      socket.once('close', () => {
+        open--
+        const left = perIp.get(ip) - 1
+        if (left === 0) perIp.delete(ip)
+        else perIp.set(ip, left)
+      })
+      if (!arena.accepting) {
+        connection.sendError('E_UNAVAILABLE')
+        connection.close(1001, 'E_UNAVAILABLE')
+        return
+      }
+      authenticate(arena, request.query.token).then((account) => {
+        if (!connection.authenticated(account) && account) arena.accounts.release(account)
+      }, (error) => {
+        request.log.error({ err: error }, 'websocket authentication failed')
+        connection.sendError('E_INTERNAL')
+        connection.close(1011, 'E_INTERNAL')
+      })
     }
-  }, (socket, request) => {
-    // Listeners go on synchronously (inside Connection) so no frame is lost while the token is checked.
-    const connection = new Connection({
-      socket,
-      arena,
-      parseMessage,
-      metrics,
-      log: request.log,
-      softLimit: config.wsSoftBuffer,
-      hardLimit: config.wsHardBuffer
-    })
-    if (!arena.accepting) {
-      connection.sendError('E_UNAVAILABLE')
-      connection.close(1001, 'E_UNAVAILABLE')
-      return
-    }
-    authenticate(arena, request.query.token).then((account) => {
-      if (!connection.authenticated(account) && account) arena.accounts.release(account)
-    }, (error) => {
-      request.log.error({ err: error }, 'websocket authentication failed')
-      connection.sendError('E_INTERNAL')
-      connection.close(1011, 'E_INTERNAL')
-    })
   })
 }
 

@@ -23,7 +23,9 @@ export default async function roomRoutes (app, { arena }) {
                   risk: { type: 'string' },
                   players: { type: 'integer' },
                   ballsInFlight: { type: 'integer' },
-                  tick: { type: 'integer' }
+                  tick: { type: 'integer' },
+                  // Clustered only: the URL of the process running the room (connect to OWNER/ws).
+                  owner: { type: ['string', 'null'] }
                 }
               }
             },
@@ -32,5 +34,9 @@ export default async function roomRoutes (app, { arena }) {
         }
       }
     }
-  }, async () => ({ rooms: [...arena.rooms.values()].map((room) => room.summary()), roomIds: ROOM_IDS }))
+  }, async () => ({
+    // Clustered, the directory in Redis lists the rooms of every process.
+    rooms: arena.cluster ? await arena.cluster.directory.list() : [...arena.rooms.values()].map((room) => room.summary()),
+    roomIds: ROOM_IDS
+  }))
 }

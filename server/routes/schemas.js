@@ -59,5 +59,6 @@ export const timeParam = { type: 'string', maxLength: 40 }
 export function parseTime (value) {
   if (value === undefined) return undefined
   const ms = /^\d+$/.test(value) ? Number(value) : Date.parse(value)
-  return Number.isFinite(ms) ? ms : NaN
+  // Beyond ±8.64e15 ms is no date (and overflows the database's types).
+  return Number.isFinite(ms) && Math.abs(ms) <= 8.64e15 ? ms : NaN
 }

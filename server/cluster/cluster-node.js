@@ -1,0 +1,222 @@
+import os from 'node:os'
+import { randomBytes } from 'node:crypto'
+import Redis from 'ioredis'
+import { parseRoomId } from '../rooms/room-id.js'
+import { gameError } from '../errors.js'
+import { settleInterruptedDrops } from '../ledger/recovery.js'
+import { RedisRoomDirectory, KEYS } from './room-directory.js'
+
+/**
+ * This process as a member of a cluster: it owns rooms through leases in
+ * Redis, renews them (and its presence and room summaries) every TTL/3,
+ * gives a room's lease back once the room is disposed and its ledger
+ * writes are committed, and settles the drops of rooms left by dead
+ * processes. The arena calls `join` for a room it does not run yet and
+ * `roomDisposed` when one goes idle; everything else runs on timers.
+ *
+ * Takeover: a room whose lease expired (its owner died) is claimed by the
+ * first process a player joins it on, or by the sweep (every TTL) if drops
+ * of it are still in flight in the ledger. Before the room runs again its
+ * in-flight drops are replayed from their seeds and settled, each at most
+ * once (the shared ledger's `WHERE status = 'in_flight'`).
+ */
+export class ClusterNode {
+  /**
+   * @param {object} options
+   * @param {import('../arena.js').Arena} options.arena
+   * @param {import('./shared-ledger.js').SharedLedgerStore} options.store
+   * @param {import('../config.js').Config} options.config
+   * @param {import('pino').Logger} options.log
+   */
+  constructor ({ arena, store, config, log }) {
+    this.arena = arena
+    this.store = store
+    this.log = log
+    this.ttlMs = config.leaseTtlMs
+    this.nodeId = `${os.hostname()}-${process.pid}-${randomBytes(3).toString('hex')}`
+    this.publicUrl = config.publicUrl
+    this.redis = new Redis(config.redisUrl, { lazyConnect: true, maxRetriesPerRequest: 2, enableOfflineQueue: true })
+    this.redis.on('error', (error) => this.log.warn({ err: error }, 'redis error'))
+    this.directory = new RedisRoomDirectory({
+      redis: this.redis,
+      nodeId: this.nodeId,
+      publicUrl: () => this.publicUrl,
+      ttlMs: this.ttlMs,
+      localSummaries: () => [...arena.rooms.values()].map((room) => room.summary())
+    })
+    /** Rooms whose lease we hold. */
+    this.owned = new Set()
+    /** Per room: the tail of its claim/release chain (they never overlap). */
+    this._chains = new Map()
+    this._timers = []
+    this.closed = false
+    this.stats = { takeovers: 0, recovered: 0 }
+    /** When the leases were last renewed (or, before that, taken). */
+    this.renewedAt = Date.now()
+  }
+
+  /** Connects to Redis, advertises this process, settles orphaned drops and starts the timers. */
+  async start () {
+    await this.redis.connect()
+    await this.directory.publish([])
+    await this.sweep()
+    const every = (ms, job) => {
+      const timer = setInterval(() => { job().catch((error) => this.log.error({ err: error }, 'cluster job failed')) }, ms)
+      timer.unref()
+      this._timers.push(timer)
+    }
+    every(Math.max(100, Math.floor(this.ttlMs / 3)), () => this.heartbeat())
+    every(this.ttlMs, () => this.sweep())
+  }
+
+  /** Called once the HTTP server listens, when PUBLIC_URL was not set. @param {string} url */
+  setListenUrl (url) {
+    if (!this.publicUrl) this.publicUrl = url
+  }
+
+  /**
+   * Joins a room this process does not run yet: claims its lease (taking it
+   * over if its owner died), or refuses with where the room runs.
+   * @param {import('../realtime/connection.js').Connection} connection
+   * @param {unknown} roomId
+   * @returns {Promise<object>} the `joined` message
+   */
+  async join (connection, roomId) {
+    if (!parseRoomId(roomId)) return this.arena.joinLocal(connection, roomId) // throws E_UNKNOWN_ROOM
+    const id = /** @type {string} */ (roomId)
+    const claim = await this.claim(id)
+    if (!claim.held) {
+      if (claim.owner) throw withDetails(gameError('E_WRONG_NODE', `room ${id} runs on ${claim.owner}; connect to ${claim.owner}/ws and join again`), { room: id, owner: claim.owner })
+      throw withDetails(gameError('E_ROOM_MOVING'), { room: id, retryAfterMs: claim.retryAfterMs })
+    }
+    if (connection.closed) throw gameError('E_UNAVAILABLE', 'connection closed')
+    return this.arena.joinLocal(connection, id)
+  }
+
+  /** @param {string} roomId @returns {Promise<{ held: boolean, owner?: string | null, retryAfterMs?: number }>} */
+  claim (roomId) {
+    if (this.owned.has(roomId)) return Promise.resolve({ held: true })
+    return this._serial(roomId, async () => {
+      if (this.owned.has(roomId)) return { held: true }
+      if (this.closed) throw gameError('E_UNAVAILABLE')
+      const claim = await this.directory.claim(roomId)
+      if (!claim.held) return claim
+      if (this.owned.size === 0) this.renewedAt = Date.now()
+      this.owned.add(roomId)
+      if (!this.arena.rooms.get(roomId)) await this._recover(roomId)
+      return claim
+    })
+  }
+
+  /** Settles the in-flight drops a previous owner left in this room (each at most once). */
+  async _recover (roomId) {
+    const drops = await this.store.listInFlightDropsOfRoom(roomId)
+    if (drops.length === 0) return
+    let settled
+    for (let attempt = 1; ; attempt++) {
+      try {
+        ({ settled } = await settleInterruptedDrops(this.store, this.log, { drops }))
+        break
+      } catch (error) {
+        // Another process settling the same drops at the same moment: its rows win, ours are skipped on retry.
+        if (attempt >= 3) throw error
+        this.log.warn({ err: error, room: roomId, attempt }, 'settling a taken-over room failed; retrying')
+      }
+    }
+    this.stats.takeovers++
+    this.stats.recovered += settled
+    this.log.warn({ room: roomId, settled, found: drops.length }, 'took over a room and settled its drops in flight')
+  }
+
+  /**
+   * The arena disposed an idle room: give its lease back once everything
+   * written for it so far is committed (so the next owner finds no drop of
+   * ours in flight), unless the room came back meanwhile.
+   * @param {string} roomId
+   */
+  roomDisposed (roomId) {
+    if (this.closed) return
+    this.arena.ledger.run(() => this._serial(roomId, async () => {
+      if (this.arena.rooms.get(roomId) || !this.owned.has(roomId)) return
+      this.owned.delete(roomId)
+      await this.directory.release(roomId)
+    })).catch((error) => this.log.error({ err: error, room: roomId }, 'could not release a room lease'))
+  }
+
+  /** Renews our leases (evicting rooms lost meanwhile), presence and summaries. */
+  async heartbeat () {
+    if (this.closed) return
+    // Fencing: leases we could not renew for most of a TTL may already be someone else's.
+    if (this.owned.size > 0 && Date.now() - this.renewedAt > this.ttlMs * 0.9) {
+      for (const roomId of [...this.owned]) this._evict(roomId)
+    }
+    const started = Date.now()
+    const lost = await this.directory.renew([...this.owned])
+    this.renewedAt = started
+    for (const roomId of lost) this._evict(roomId)
+    await this.directory.publish([...this.arena.rooms.values()].map((room) => room.summary()))
+  }
+
+  /**
+   * Our lease passed to another process (we stalled past the TTL): stop
+   * running the room. Its recorded drops are settled by the new owner; its
+   * players are told to move.
+   */
+  _evict (roomId) {
+    this.owned.delete(roomId)
+    const room = this.arena.rooms.get(roomId)
+    this.log.error({ room: roomId }, 'lost the lease of a room to another process')
+    if (!room) return
+    this.arena.rooms.rooms.delete(roomId)
+    for (const client of room.clients) {
+      client.room = null
+      client.sendError('E_ROOM_MOVING', 'this process lost the room; join it again', undefined, { room: roomId, retryAfterMs: 0 })
+    }
+    room.clients.clear()
+  }
+
+  /** Rooms with drops in flight and no owner: claim them (which settles the drops), then let them go. */
+  async sweep () {
+    if (this.closed) return
+    const rooms = await this.store.listRoomsWithDropsInFlight()
+    for (const roomId of rooms) {
+      if (this.owned.has(roomId) || !parseRoomId(roomId)) continue
+      if (await this.redis.exists(KEYS.lease(roomId))) continue
+      const claim = await this.claim(roomId)
+      if (claim.held && !this.arena.rooms.get(roomId)) this.roomDisposed(roomId)
+    }
+  }
+
+  /** After the arena has settled and committed everything: give every lease back and leave. */
+  async close () {
+    if (this.closed) return
+    this.closed = true
+    for (const timer of this._timers) clearInterval(timer)
+    try {
+      await Promise.all([...this._chains.values()])
+      for (const roomId of [...this.owned]) await this.directory.release(roomId)
+      this.owned.clear()
+      await this.redis.del(KEYS.node(this.nodeId))
+      await this.redis.quit()
+    } catch (error) {
+      this.log.warn({ err: error }, 'leaving the cluster failed; leases expire after their TTL')
+      this.redis.disconnect()
+    }
+  }
+
+  _serial (roomId, job) {
+    const previous = this._chains.get(roomId) ?? Promise.resolve()
+    const result = previous.then(job, job)
+    const tail = result.then(noop, noop)
+    this._chains.set(roomId, tail)
+    tail.then(() => { if (this._chains.get(roomId) === tail) this._chains.delete(roomId) })
+    return result
+  }
+}
+
+function withDetails (error, details) {
+  error.details = details
+  return error
+}
+
+function noop () {}

@@ -1,0 +1,70 @@
+import http from 'node:http'
+import net from 'node:net'
+
+/**
+ * A small HTTP + WebSocket proxy in front of N server processes on one port
+ * (what `npm run cluster` runs; in Docker, nginx does the same job — see
+ * deploy/nginx.conf). Two kinds of routes:
+ *
+ *   /n/{i}/…  → process i, prefix stripped: a process's PUBLIC_URL is
+ *               http://HOST:PORT/n/{i}, so an E_WRONG_NODE `owner` leads the
+ *               client to the process that runs its room, through this port.
+ *   anything else → the next process, round robin.
+ *
+ * WebSocket upgrades are piped as raw TCP after the request head.
+ */
+export function createProxy ({ targets, log = console }) {
+  let next = 0
+  const route = (url) => {
+    const match = /^\/n\/(\d+)(\/.*)?$/.exec(url.split('?')[0])
+    if (match) {
+      const index = Number(match[1])
+      if (index >= targets.length) return null
+      const rest = url.slice(`/n/${index}`.length) || '/'
+      return { target: targets[index], path: rest.startsWith('/') ? rest : '/' + rest }
+    }
+    const target = targets[next++ % targets.length]
+    return { target, path: url }
+  }
+
+  const server = http.createServer((request, response) => {
+    const routed = route(request.url)
+    if (!routed) { response.writeHead(404, { 'content-type': 'application/json' }).end('{"code":"E_NOT_FOUND","message":"no such process"}'); return }
+    const upstream = http.request({
+      host: routed.target.host,
+      port: routed.target.port,
+      method: request.method,
+      path: routed.path,
+      headers: { ...request.headers, 'x-forwarded-for': request.socket.remoteAddress }
+    }, (reply) => {
+      response.writeHead(reply.statusCode, reply.headers)
+      reply.pipe(response)
+    })
+    upstream.on('error', (error) => {
+      log.warn?.(`proxy: ${routed.target.host}:${routed.target.port} ${error.message}`)
+      if (!response.headersSent) response.writeHead(502, { 'content-type': 'application/json' })
+      response.end('{"code":"E_UNAVAILABLE","message":"server process unavailable"}')
+    })
+    request.pipe(upstream)
+  })
+
+  server.on('upgrade', (request, socket, head) => {
+    const routed = route(request.url)
+    if (!routed) { socket.end('HTTP/1.1 404 Not Found\r\n\r\n'); return }
+    const upstream = net.connect(routed.target.port, routed.target.host, () => {
+      const lines = [`${request.method} ${routed.path} HTTP/1.1`]
+      for (let i = 0; i < request.rawHeaders.length; i += 2) lines.push(`${request.rawHeaders[i]}: ${request.rawHeaders[i + 1]}`)
+      lines.push(`X-Forwarded-For: ${request.socket.remoteAddress}`)
+      upstream.write(lines.join('\r\n') + '\r\n\r\n')
+      if (head?.length) upstream.write(head)
+      upstream.pipe(socket)
+      socket.pipe(upstream)
+    })
+    const fail = () => { socket.destroy(); upstream.destroy() }
+    upstream.on('error', fail)
+    socket.on('error', fail)
+    upstream.on('close', () => socket.destroy())
+    socket.on('close', () => upstream.destroy())
+  })
+  return server
+}

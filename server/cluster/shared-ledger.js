@@ -1,0 +1,275 @@
+import { PostgresStore } from '../store/postgres-store.js'
+import { gameError } from '../errors.js'
+import { toDropRecord } from '../store/records.js'
+
+/** Nonces reserved per (process, seed) at a time; a reservation is never given back. */
+export const NONCE_BLOCK = 100
+/** Drop ids reserved per process at a time. */
+export const DROP_ID_BLOCK = 10_000
+
+/**
+ * The ledger when several processes share one PostgreSQL database. It is
+ * the PostgreSQL store with four changes, so that the database — not any
+ * process's memory — decides every balance, nonce and drop id:
+ *
+ * - A batch's debits are conditional (`balance >= bets`) and its drops are
+ *   recorded only if their server seed is still active (locked FOR SHARE
+ *   against a concurrent rotation). A refused drop is not written and the
+ *   rest of the batch commits: `commitBatch` returns which drops were
+ *   refused and why (E_INSUFFICIENT_FUNDS, E_SEED_ROTATED).
+ * - A settlement is written only if its drop is still in flight
+ *   (`UPDATE … WHERE status = 'in_flight' RETURNING`), and only those rows
+ *   are credited: two processes can never settle the same drop twice.
+ * - Nonces are reserved in blocks in the database (`UPDATE server_seeds SET
+ *   next_nonce = next_nonce + N … RETURNING`) when an account is loaded or
+ *   runs low, so two processes never use the same nonce of a seed.
+ * - Drop ids are reserved in blocks from one counter row.
+ *
+ * `commitBatch` also returns every touched player's balance as committed,
+ * which the arena shows instead of its cached one.
+ */
+export class SharedLedgerStore extends PostgresStore {
+  /** @param {{ url: string, poolSize?: number, nonceBlock?: number, dropIdBlock?: number }} options */
+  constructor ({ nonceBlock = NONCE_BLOCK, dropIdBlock = DROP_ID_BLOCK, ...options }) {
+    super(options)
+    this.shared = true
+    this.nonceBlock = nonceBlock
+    this.dropIdBlock = dropIdBlock
+    /** @type {Map<string, { end: number, next: { start: number, end: number } | null, refilling: Promise<void> | null }>} by seed id */
+    this.nonceBlocks = new Map()
+    this.dropIds = { next: 0, end: 0, pending: null, nextBlock: null }
+  }
+
+  async migrate () {
+    await super.migrate()
+    // Not a ledger migration (the single-process SQLite schema has no use for it): cluster bookkeeping.
+    await this.pool.query(`CREATE TABLE IF NOT EXISTS cluster_counters (name TEXT PRIMARY KEY, value BIGINT NOT NULL)`)
+      .catch((error) => { if (error.code !== '23505' && error.code !== '42P07') throw error })
+  }
+
+  // ---- drop ids -------------------------------------------------------------
+
+  /** Reserves the first block; call once before taking ids. */
+  async startDropIds () {
+    const block = await this._reserveDropIds()
+    this.dropIds.next = block.start
+    this.dropIds.end = block.end
+  }
+
+  async _reserveDropIds () {
+    const n = this.dropIdBlock
+    // GREATEST with MAX(id): stays above ids written by a single-process run on the same database.
+    const { rows } = await this.pool.query(`INSERT INTO cluster_counters (name, value)
+        VALUES ('drop_id', (SELECT COALESCE(MAX(id), 0) FROM drops) + $1)
+      ON CONFLICT (name) DO UPDATE SET value = GREATEST(cluster_counters.value, (SELECT COALESCE(MAX(id), 0) FROM drops)) + $1
+      RETURNING value`, [n])
+    const end = Number(rows[0].value) + 1
+    return { start: end - n, end }
+  }
+
+  /** The next drop id (synchronous); a fresh block is fetched ahead of need. */
+  takeDropId () {
+    const ids = this.dropIds
+    if (ids.next >= ids.end) {
+      if (!ids.nextBlock) {
+        this._refillDropIds()
+        throw gameError('E_UNAVAILABLE', 'drop ids are being reserved; retry in a moment')
+      }
+      ids.next = ids.nextBlock.start
+      ids.end = ids.nextBlock.end
+      ids.nextBlock = null
+    }
+    const id = ids.next++
+    if (ids.end - ids.next < this.dropIdBlock / 2) this._refillDropIds()
+    return id
+  }
+
+  _refillDropIds () {
+    const ids = this.dropIds
+    if (ids.pending || ids.nextBlock) return
+    ids.pending = this._reserveDropIds().then((block) => { ids.nextBlock = block }, () => {}).finally(() => { ids.pending = null })
+  }
+
+  // ---- nonces ---------------------------------------------------------------
+
+  /** Loads an account and reserves a block of its active seed's nonces. */
+  async loadAccount (playerId) {
+    const { rows } = await this.pool.query(`UPDATE server_seeds AS s SET next_nonce = s.next_nonce + $2
+      FROM players p WHERE p.id = $1 AND s.player_id = p.id AND s.active = 1
+      RETURNING p.id, p.balance, p.client_seed, p.created_at, s.id AS seed_id, s.seed, s.hash, s.next_nonce - $2 AS next_nonce`,
+    [playerId, this.nonceBlock])
+    if (!rows[0]) return null
+    const row = rows[0]
+    const start = Number(row.next_nonce)
+    this.nonceBlocks.set(row.seed_id, { end: start + this.nonceBlock, next: null, refilling: null })
+    return {
+      playerId: row.id,
+      balance: Number(row.balance),
+      clientSeed: row.client_seed,
+      createdAt: Number(row.created_at),
+      seed: { id: row.seed_id, seed: row.seed, hash: row.hash, nextNonce: start }
+    }
+  }
+
+  /**
+   * Takes the seed's next nonce from this process's reservation (synchronous).
+   * @param {{ id: string, nextNonce: number }} seed
+   */
+  takeNonce (seed) {
+    const block = this.nonceBlocks.get(seed.id)
+    if (!block) throw gameError('E_UNAVAILABLE', 'no nonces reserved for this seed; reconnect')
+    if (seed.nextNonce >= block.end) {
+      if (!block.next) {
+        this._refillNonces(seed.id, block)
+        throw gameError('E_UNAVAILABLE', 'nonces are being reserved; retry in a moment')
+      }
+      seed.nextNonce = block.next.start
+      block.end = block.next.end
+      block.next = null
+    }
+    const nonce = seed.nextNonce++
+    if (block.end - seed.nextNonce < this.nonceBlock / 2) this._refillNonces(seed.id, block)
+    return nonce
+  }
+
+  _refillNonces (seedId, block) {
+    if (block.refilling || block.next) return
+    block.refilling = this.pool.query('UPDATE server_seeds SET next_nonce = next_nonce + $2 WHERE id = $1 AND active = 1 RETURNING next_nonce',
+      [seedId, this.nonceBlock]).then(({ rows }) => {
+      if (rows[0]) block.next = { start: Number(rows[0].next_nonce) - this.nonceBlock, end: Number(rows[0].next_nonce) }
+    }, () => {}).finally(() => { block.refilling = null })
+  }
+
+  /** Rotation commits the new seed with its first block already reserved for this process. */
+  async rotateSeed ({ playerId, oldSeedId, newSeed, at }) {
+    await this._transaction(async (client) => {
+      const { rowCount } = await client.query(
+        'UPDATE server_seeds SET active = 0, revealed_at = $1 WHERE id = $2 AND player_id = $3 AND active = 1',
+        [at, oldSeedId, playerId])
+      if (rowCount !== 1) throw gameError('E_SEED_ROTATED', `seed ${oldSeedId} is no longer the active seed; reconnect to get the new one`)
+      await client.query('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES ($1, $2, $3, $4, 1, $5, $6)',
+        [newSeed.id, playerId, newSeed.seed, newSeed.hash, this.nonceBlock, at])
+    })
+    this.nonceBlocks.delete(oldSeedId)
+    this.nonceBlocks.set(newSeed.id, { end: this.nonceBlock, next: null, refilling: null })
+  }
+
+  // ---- recovery of other processes' drops -------------------------------------
+
+  /** Rooms that have drops in flight (any process's). @returns {Promise<string[]>} */
+  async listRoomsWithDropsInFlight () {
+    const { rows } = await this.pool.query("SELECT DISTINCT room FROM drops WHERE status = 'in_flight'")
+    return rows.map((row) => row.room)
+  }
+
+  /** @param {string} room */
+  async listInFlightDropsOfRoom (room) {
+    const { rows } = await this.pool.query("SELECT * FROM drops WHERE status = 'in_flight' AND room = $1 ORDER BY id", [room])
+    return rows.map(toDropRecord)
+  }
+
+  // ---- the batch ------------------------------------------------------------
+
+  /**
+   * @param {import('../store/records.js').LedgerBatch} batch (its `balances` and `nonces` are
+   *   ignored: debits and credits are computed here from what the database accepts)
+   * @returns {Promise<{ rejected: Map<number, string>, settled: Set<number>, balances: Map<string, number> }>}
+   */
+  async commitBatch (batch) {
+    return this._transaction(async (client) => {
+      const rejected = new Map()
+      const players = new Set()
+      let drops = batch.drops
+      // Row locks in one global order (settled drops by id, then players by id), so two
+      // processes' batches wait for each other instead of deadlocking.
+      const settlingIds = batch.settlements.map((s) => s.id)
+      if (settlingIds.length > 0) await client.query('SELECT id FROM drops WHERE id = ANY($1::bigint[]) ORDER BY id FOR UPDATE', [settlingIds])
+      await client.query(`SELECT id FROM players WHERE id = ANY($1::text[])
+          OR id IN (SELECT player_id FROM drops WHERE id = ANY($2::bigint[])) ORDER BY id FOR UPDATE`,
+      [[...new Set(drops.map((d) => d.playerId))], settlingIds])
+      if (drops.length > 0) {
+        for (const drop of drops) players.add(drop.playerId)
+        const seedIds = [...new Set(drops.map((d) => d.serverSeedId))]
+        const { rows: active } = await client.query('SELECT id FROM server_seeds WHERE id = ANY($1::text[]) AND active = 1 FOR SHARE', [seedIds])
+        const activeIds = new Set(active.map((r) => r.id))
+        for (const drop of drops) if (!activeIds.has(drop.serverSeedId)) rejected.set(drop.id, 'E_SEED_ROTATED')
+        drops = drops.filter((d) => !rejected.has(d.id))
+        const totals = new Map()
+        for (const drop of drops) totals.set(drop.playerId, (totals.get(drop.playerId) ?? 0) + drop.bet)
+        if (totals.size > 0) {
+          const { rows: debited } = await client.query(`UPDATE players AS p SET balance = p.balance - b.total
+            FROM unnest($1::text[], $2::bigint[]) AS b (id, total) WHERE p.id = b.id AND p.balance >= b.total RETURNING p.id`,
+          [[...totals.keys()], [...totals.values()]])
+          const paid = new Set(debited.map((r) => r.id))
+          for (const drop of drops) if (!paid.has(drop.playerId)) rejected.set(drop.id, 'E_INSUFFICIENT_FUNDS')
+          drops = drops.filter((d) => !rejected.has(d.id))
+        }
+        if (drops.length > 0) {
+          await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
+              server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
+            SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+              nonce, drop_seed, bet, start_tick, 'in_flight', created_at
+            FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
+              $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
+              AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+                nonce, drop_seed, bet, start_tick, created_at)`,
+          columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
+            'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
+        }
+      }
+      const settled = new Set()
+      if (batch.settlements.length > 0) {
+        const { rows } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
+            multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
+          FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
+            AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
+          WHERE d.id = s.id AND d.status = 'in_flight'
+          RETURNING d.id, d.player_id, s.payout`,
+        columns(batch.settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
+        const credits = new Map()
+        for (const row of rows) {
+          settled.add(Number(row.id))
+          players.add(row.player_id)
+          if (Number(row.payout) > 0) credits.set(row.player_id, (credits.get(row.player_id) ?? 0) + Number(row.payout))
+        }
+        if (credits.size > 0) {
+          await client.query(`UPDATE players AS p SET balance = p.balance + c.amount
+            FROM unnest($1::text[], $2::bigint[]) AS c (id, amount) WHERE p.id = c.id`,
+          [[...credits.keys()], [...credits.values()]])
+        }
+      }
+      // A client seed set by a refused drop is not kept (the arena puts the old one back too).
+      const accepted = new Set(drops.map((d) => d.playerId))
+      const dropPlayers = new Set(batch.drops.map((d) => d.playerId))
+      const clientSeeds = batch.clientSeeds.filter((c) => !dropPlayers.has(c.playerId) || accepted.has(c.playerId))
+      if (clientSeeds.length > 0) {
+        await client.query(`UPDATE players AS p SET client_seed = c.client_seed
+          FROM unnest($1::text[], $2::text[]) AS c (id, client_seed) WHERE p.id = c.id`,
+        columns(clientSeeds, ['playerId', 'clientSeed']))
+      }
+      const balances = new Map()
+      if (players.size > 0) {
+        const { rows } = await client.query('SELECT id, balance FROM players WHERE id = ANY($1::text[])', [[...players]])
+        for (const row of rows) balances.set(row.id, Number(row.balance))
+      }
+      return { rejected, settled, balances }
+    })
+  }
+}
+
+/** Opens and migrates the shared ledger. @param {{ url: string }} database */
+export async function openSharedLedger (database) {
+  const store = new SharedLedgerStore({ url: database.url })
+  try {
+    await store.migrate()
+    await store.startDropIds()
+  } catch (error) {
+    await store.close().catch(() => {})
+    throw error
+  }
+  return store
+}
+
+function columns (rows, fields) {
+  return fields.map((field) => rows.map((row) => row[field]))
+}

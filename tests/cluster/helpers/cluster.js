@@ -1,0 +1,152 @@
+import { spawn } from 'node:child_process'
+import fs from 'node:fs'
+import net from 'node:net'
+import os from 'node:os'
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+import pg from 'pg'
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../..')
+export const OPERATOR_TOKEN = 'operator-token-for-cluster-tests-0123'
+
+export function freePort () {
+  return new Promise((resolve, reject) => {
+    const server = net.createServer()
+    server.unref()
+    server.on('error', reject)
+    server.listen(0, '127.0.0.1', () => {
+      const { port } = server.address()
+      server.close(() => resolve(port))
+    })
+  })
+}
+
+/**
+ * A throwaway redis-server on a free loopback port, no persistence.
+ * REDIS_SERVER picks the binary (default: redis-server on PATH, else /usr/bin/redis-server).
+ */
+export async function startRedis () {
+  const port = await freePort()
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-redis-'))
+  const binary = process.env.REDIS_SERVER ?? (fs.existsSync('/usr/bin/redis-server') ? '/usr/bin/redis-server' : 'redis-server')
+  const child = spawn(binary, ['--port', String(port), '--bind', '127.0.0.1', '--save', '', '--appendonly', 'no', '--dir', dir], { stdio: ['ignore', 'pipe', 'pipe'] })
+  const kill = () => { try { child.kill('SIGKILL') } catch {} }
+  process.once('exit', kill)
+  let output = ''
+  await new Promise((resolve, reject) => {
+    const onData = (chunk) => {
+      output += chunk
+      if (/Ready to accept connections/.test(output)) resolve()
+    }
+    child.stdout.on('data', onData)
+    child.stderr.on('data', onData)
+    child.once('exit', () => reject(new Error(`redis-server exited:\n${output}`)))
+  })
+  return {
+    url: `redis://127.0.0.1:${port}`,
+    async stop () {
+      process.removeListener('exit', kill)
+      const exited = new Promise((resolve) => child.once('exit', resolve))
+      child.kill('SIGTERM')
+      await exited
+      fs.rmSync(dir, { recursive: true, force: true })
+    }
+  }
+}
+
+/**
+ * `node server/server.js` as a cluster member on a free port, its PUBLIC_URL
+ * set to that port. Resolves once it listens.
+ * @param {{ databaseUrl: string, redisUrl: string, env?: Record<string, string> }} options
+ */
+export async function startNode ({ databaseUrl, redisUrl, env = {} }) {
+  const port = await freePort()
+  const url = `http://127.0.0.1:${port}`
+  const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
+    cwd: ROOT,
+    env: {
+      ...process.env,
+      DATABASE_URL: databaseUrl,
+      REDIS_URL: redisUrl,
+      PUBLIC_URL: url,
+      PORT: String(port),
+      HOST: '127.0.0.1',
+      LOG_LEVEL: 'warn',
+      OPERATOR_TOKEN,
+      CLIENT_DIR: '/nonexistent/plinko-client',
+      HTTP_RATE_LIMIT: '1000000',
+      SESSION_RATE_LIMIT: '1000000',
+      ...env
+    },
+    stdio: ['ignore', 'pipe', 'pipe']
+  })
+  let output = ''
+  child.stdout.on('data', (chunk) => { output += chunk })
+  child.stderr.on('data', (chunk) => { output += chunk })
+  const exited = new Promise((resolve) => child.once('exit', (code, signal) => resolve({ code, signal })))
+  const node = {
+    child,
+    port,
+    url,
+    exited,
+    get output () { return output },
+    wsUrl: (token) => `ws://127.0.0.1:${port}/ws?token=${token}`,
+    async api (method, pathname, body) {
+      const response = await fetch(url + pathname, { method, headers: body ? { 'content-type': 'application/json' } : {}, body: body ? JSON.stringify(body) : undefined })
+      return { status: response.status, body: await response.json().catch(() => null) }
+    },
+    async session () {
+      const { status, body } = await node.api('POST', '/api/session')
+      if (status !== 201) throw new Error(`session: ${status}`)
+      return body
+    },
+    kill (signal = 'SIGKILL') { child.kill(signal); return exited },
+    async stop () {
+      if (child.exitCode !== null || child.signalCode !== null) return exited
+      child.kill('SIGTERM')
+      return exited
+    }
+  }
+  // Ready when /api/health answers.
+  const deadline = Date.now() + 30_000
+  for (;;) {
+    if (child.exitCode !== null) throw new Error(`server exited before listening:\n${output}`)
+    try {
+      const response = await fetch(url + '/api/rooms')
+      if (response.ok) break
+    } catch {}
+    if (Date.now() > deadline) { child.kill('SIGKILL'); throw new Error(`server did not start:\n${output}`) }
+    await new Promise((resolve) => setTimeout(resolve, 50))
+  }
+  return node
+}
+
+/** One query on a database URL. */
+export async function query (url, sql, params = []) {
+  const client = new pg.Client({ connectionString: url })
+  await client.connect()
+  try {
+    return (await client.query(sql, params)).rows
+  } finally {
+    await client.end()
+  }
+}
+
+/** Every player's balance equals start - bets + payouts, and no drop is left in flight. */
+export async function ledgerMismatches (url, startingBalance) {
+  return query(url, `SELECT p.id, p.balance,
+      $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0) AS expected
+    FROM players p LEFT JOIN drops d ON d.player_id = p.id
+    GROUP BY p.id, p.balance
+    HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [startingBalance])
+}
+
+export async function eventually (check, { timeoutMs = 30_000, intervalMs = 50 } = {}) {
+  const deadline = Date.now() + timeoutMs
+  for (;;) {
+    const value = await check()
+    if (value) return value
+    if (Date.now() > deadline) throw new Error('condition not met in time')
+    await new Promise((resolve) => setTimeout(resolve, intervalMs))
+  }
+}
