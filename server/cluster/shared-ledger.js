@@ -1,4 +1,4 @@
-import { PostgresStore } from '../store/postgres-store.js'
+import { PostgresStore, columns, insertInFlightDrops } from '../store/postgres-store.js'
 import { gameError } from '../errors.js'
 import { toDropRecord } from '../store/records.js'
 
@@ -205,16 +205,7 @@ export class SharedLedgerStore extends PostgresStore {
           drops = drops.filter((d) => !rejected.has(d.id))
         }
         if (drops.length > 0) {
-          await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-              server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
-            SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-              nonce, drop_seed, bet, start_tick, 'in_flight', created_at
-            FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
-              $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
-              AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-                nonce, drop_seed, bet, start_tick, created_at)`,
-          columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
-            'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
+          await insertInFlightDrops(client, drops)
         }
       }
       const settled = new Set()
@@ -268,8 +259,4 @@ export async function openSharedLedger (database) {
     throw error
   }
   return store
-}
-
-function columns (rows, fields) {
-  return fields.map((field) => rows.map((row) => row[field]))
 }

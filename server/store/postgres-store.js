@@ -90,16 +90,7 @@ export class PostgresStore {
     await this._transaction(async (client) => {
       const drops = batch.drops
       if (drops.length > 0) {
-        await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-            server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
-          SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-            nonce, drop_seed, bet, start_tick, 'in_flight', created_at
-          FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
-            $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
-            AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-              nonce, drop_seed, bet, start_tick, created_at)`,
-        columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
-          'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
+        await insertInFlightDrops(client, drops)
       }
       const settlements = batch.settlements
       if (settlements.length > 0) {
@@ -208,6 +199,25 @@ function insertSeed (client, playerId, seed, createdAt) {
 }
 
 /** Row objects → one array per field, for unnest(). */
-function columns (rows, fields) {
+export function columns (rows, fields) {
   return fields.map((field) => rows.map((row) => row[field]))
+}
+
+/**
+ * Inserts new drops, status in_flight, in one statement. Shared by the
+ * single-process store and the cluster's shared ledger.
+ * @param {import('pg').PoolClient} client
+ * @param {object[]} drops
+ */
+export async function insertInFlightDrops (client, drops) {
+  await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
+      server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
+    SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+      nonce, drop_seed, bet, start_tick, 'in_flight', created_at
+    FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
+      $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
+      AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
+        nonce, drop_seed, bet, start_tick, created_at)`,
+  columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
+    'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
 }

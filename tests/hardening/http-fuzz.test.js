@@ -1,9 +1,9 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect, beforeAll } from 'vitest'
 import fc from 'fast-check'
 import net from 'node:net'
 import { ERROR_CODES } from '../../server/errors.js'
-import { STORE_KINDS, storeBackend } from '../server/helpers/stores.js'
-import { startServer, OPERATOR_TOKEN } from '../server/helpers/server.js'
+import { STORE_KINDS } from '../server/helpers/stores.js'
+import { useServerOn, OPERATOR_TOKEN } from '../server/helpers/server.js'
 import { ledgerTotals } from './helpers/ledger.js'
 
 /**
@@ -54,20 +54,11 @@ const EDGE_URLS = EDGES.flatMap((v) => [
 ])
 
 describe.each(STORE_KINDS)('HTTP fuzz on %s', (kind) => {
-  const backend = storeBackend(kind)
+  const context = useServerOn(kind)
+  const backend = context.backend
   let server
   let database
-
-  beforeAll(async () => {
-    await backend.setup()
-    database = await backend.newDatabase()
-    server = await startServer(database)
-  })
-
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { ({ server, database } = context) })
 
   it(`answers ${REQUESTS} random requests with 2xx/3xx or a named 4xx, never a 5xx`, async () => {
     const alice = await server.player('8-low')

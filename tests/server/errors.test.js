@@ -1,7 +1,7 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect, beforeAll } from 'vitest'
 import { ERROR_CODES } from '../../server/errors.js'
-import { STORE_KINDS, storeBackend } from './helpers/stores.js'
-import { startServer, OPERATOR_TOKEN } from './helpers/server.js'
+import { STORE_KINDS } from './helpers/stores.js'
+import { useServerOn, startServer, OPERATOR_TOKEN } from './helpers/server.js'
 import { GameClient } from './helpers/game-client.js'
 
 /**
@@ -11,21 +11,12 @@ import { GameClient } from './helpers/game-client.js'
  * sockets buffer megabytes before a server-side send queue grows.)
  */
 describe.each(STORE_KINDS)('error codes on %s', (kind) => {
-  const backend = storeBackend(kind)
+  const context = useServerOn(kind)
+  const backend = context.backend
   const reached = new Set()
   let server
   let database
-
-  beforeAll(async () => {
-    await backend.setup()
-    database = await backend.newDatabase()
-    server = await startServer(database)
-  })
-
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { ({ server, database } = context) })
 
   /** Balance, next nonce and ledger rows of a player plus the whole ledger's size. */
   async function ledgerState (srv, db, token, playerId) {

@@ -1,27 +1,18 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect, beforeAll } from 'vitest'
 import { createHash, createHmac } from 'node:crypto'
 import { verifyDrop } from '../../engine/index.js'
-import { STORE_KINDS, storeBackend } from './helpers/stores.js'
-import { startServer } from './helpers/server.js'
+import { STORE_KINDS } from './helpers/stores.js'
+import { useServerOn } from './helpers/server.js'
 
 const sha256 = (text) => createHash('sha256').update(text).digest('hex')
 const hmac = (key, message) => createHmac('sha256', key).update(message).digest('hex')
 
 describe.each(STORE_KINDS)('provably fair seeds on %s', (kind) => {
-  const backend = storeBackend(kind)
+  const context = useServerOn(kind)
+  const backend = context.backend
   let server
   let database
-
-  beforeAll(async () => {
-    await backend.setup()
-    database = await backend.newDatabase()
-    server = await startServer(database)
-  })
-
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { ({ server, database } = context) })
 
   async function dropAndSettle (client, request) {
     client.send({ type: 'drop', ...request })

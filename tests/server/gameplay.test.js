@@ -1,27 +1,18 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect, beforeAll } from 'vitest'
 import { createHash } from 'node:crypto'
 import { createBoard, simulateDrop } from '../../engine/index.js'
 import { quantizePosition } from '../../server/rooms/snapshot-codec.js'
-import { STORE_KINDS, storeBackend } from './helpers/stores.js'
-import { startServer, eventually } from './helpers/server.js'
+import { STORE_KINDS } from './helpers/stores.js'
+import { useServerOn, eventually } from './helpers/server.js'
 
 const payoutFor = (bet, multiplier) => Math.floor(bet * Math.round(multiplier * 1000) / 1000)
 
 describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
-  const backend = storeBackend(kind)
+  const context = useServerOn(kind)
+  const backend = context.backend
   let server
   let database
-
-  beforeAll(async () => {
-    await backend.setup()
-    database = await backend.newDatabase()
-    server = await startServer(database)
-  })
-
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { ({ server, database } = context) })
 
   it('creates a guest session with play money and stores only the token hash', async () => {
     const session = await server.session()

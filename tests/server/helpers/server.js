@@ -1,7 +1,9 @@
 import { buildApp } from '../../../server/app.js'
 import { loadConfig } from '../../../server/config.js'
 import { openStore } from '../../../server/store/open-store.js'
+import { beforeAll, afterAll } from 'vitest'
 import { GameClient } from './game-client.js'
+import { storeBackend } from './stores.js'
 
 export const OPERATOR_TOKEN = 'operator-token-for-tests-0123456789'
 /** Wall-clock ticks per second in tests: three times real time, same outcomes. */
@@ -83,4 +85,25 @@ export async function eventually (check, { timeoutMs = 30_000, intervalMs = 20 }
     if (Date.now() > deadline) throw new Error('condition not met in time')
     await new Promise((resolve) => setTimeout(resolve, intervalMs))
   }
+}
+
+/**
+ * Registers hooks that give the enclosing describe block a fresh database
+ * on store `kind` and a server over it; returns { backend, database, server },
+ * filled in before the block's own beforeAll hooks run.
+ * @param {string} kind one of STORE_KINDS
+ * @param {Parameters<typeof startServer>[1]} [options]
+ */
+export function useServerOn (kind, options) {
+  const context = { backend: storeBackend(kind), database: null, server: null }
+  beforeAll(async () => {
+    await context.backend.setup()
+    context.database = await context.backend.newDatabase()
+    context.server = await startServer(context.database, options)
+  })
+  afterAll(async () => {
+    await context.server?.close()
+    await context.backend.teardown()
+  })
+  return context
 }
