@@ -17,19 +17,17 @@
  * lost (and, with --strict, when memory and tick duration are flat too).
  * k6 load and soak scenarios live in loadtest/; this script needs no k6.
  */
-import { spawn } from 'node:child_process'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { fileURLToPath } from 'node:url'
 import { parseArgs } from 'node:util'
 import Database from 'better-sqlite3'
 import WebSocket from 'ws'
 import { createBoard, simulateDrop } from '../engine/index.js'
 import { payoutFor } from '../server/fairness/payout.js'
 import { ROOM_IDS } from '../server/rooms/room-id.js'
+import { startServerProcess } from './server-process.js'
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const OPERATOR_TOKEN = 'soak-operator-token-0123456789abcdef'
 const START = 100000
 
@@ -69,37 +67,14 @@ const tempDir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-soak-'))
 const databaseUrl = args.database ?? `sqlite:${path.join(tempDir, 'ledger.sqlite')}`
 
 function startServer () {
-  const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
-    cwd: ROOT,
-    env: {
-      ...process.env,
-      DATABASE_URL: databaseUrl,
-      PORT: '0',
-      HOST: '127.0.0.1',
-      LOG_LEVEL: 'info',
-      OPERATOR_TOKEN,
-      STARTING_BALANCE: String(START),
-      HTTP_RATE_LIMIT: '1000000000',
-      SESSION_RATE_LIMIT: '1000000000',
-      WS_MAX_CONNECTIONS_PER_IP: '1000000',
-      CLIENT_DIR: path.join(tempDir, 'no-client')
-    },
-    stdio: ['ignore', 'pipe', 'pipe']
+  return startServerProcess(databaseUrl, {
+    OPERATOR_TOKEN,
+    STARTING_BALANCE: String(START),
+    HTTP_RATE_LIMIT: '1000000000',
+    SESSION_RATE_LIMIT: '1000000000',
+    WS_MAX_CONNECTIONS_PER_IP: '1000000',
+    CLIENT_DIR: path.join(tempDir, 'no-client')
   })
-  let output = ''
-  const exited = new Promise((resolve) => child.once('exit', (code, signal) => resolve({ code, signal })))
-  const port = new Promise((resolve, reject) => {
-    const onData = (chunk) => {
-      output += chunk
-      if (output.length > 1e6) output = output.slice(-1e5)
-      const match = /listening at http:\/\/127\.0\.0\.1:(\d+)/.exec(output)
-      if (match) resolve(Number(match[1]))
-    }
-    child.stdout.on('data', onData)
-    child.stderr.on('data', onData)
-    exited.then(() => reject(new Error(`server exited before listening:\n${output}`)))
-  })
-  return { child, port, exited }
 }
 
 /** One player: a session, a socket, a room; drops at a steady rate and counts what it is told. */
