@@ -19,8 +19,7 @@ export class StaticGrid {
     this._minY = 0
     this._columns = 0
     this._rows = 0
-    this._start = new Int32Array(1)
-    this._count = new Int32Array(1)
+    this.cellStart = new Int32Array(1)
     /** shape ids, grouped by cell */
     this.items = new Int32Array(0)
   }
@@ -64,42 +63,37 @@ export class StaticGrid {
         }
       }
     }
-    this._start = new Int32Array(cells)
-    this._count = new Int32Array(cells)
+    // Prefix offsets: cell c lists items[cellStart[c] .. cellStart[c + 1] - 1].
+    this.cellStart = new Int32Array(cells + 1)
     let total = 0
     for (const list of lists) total += list.length
     this.items = new Int32Array(total)
     let offset = 0
     for (let cell = 0; cell < cells; cell++) {
-      this._start[cell] = offset
-      this._count[cell] = lists[cell].length
+      this.cellStart[cell] = offset
       for (const id of lists[cell]) this.items[offset++] = id
     }
+    this.cellStart[cells] = offset
   }
 
   /**
-   * Cell holding point (x, y), or -1 when no static shape is near.
+   * Cell holding point (x, y), or -1 outside the grid. Its shapes are
+   * items[cellStart[cell] .. cellStart[cell + 1] - 1]. A point within
+   * rounding of a cell's edge may be placed in the cell beside it; shapes
+   * are listed with a margin that covers that.
    * @param {number} x @param {number} y
    */
-  slotAt (x, y) {
-    return this.slotOf(Math.floor(x * this.inverseCellSize), Math.floor(y * this.inverseCellSize))
+  cellAt (x, y) {
+    const column = x * this.inverseCellSize - this._minX
+    const row = y * this.inverseCellSize - this._minY
+    // Compared as doubles, then truncated: `| 0` floors a non-negative value without a check.
+    if (!(column >= 0 && row >= 0 && column < this._columns && row < this._rows)) return -1
+    return (row | 0) * this._columns + (column | 0)
   }
 
-  /**
-   * Cell (ix, iy), or -1 when it holds no shape.
-   * @param {number} ix @param {number} iy
-   */
-  slotOf (ix, iy) {
-    const column = ix - this._minX
-    const row = iy - this._minY
-    if (column < 0 || row < 0 || column >= this._columns || row >= this._rows) return -1
-    const cell = row * this._columns + column
-    return this._count[cell] > 0 ? cell : -1
-  }
+  /** @param {number} cell */
+  startOf (cell) { return this.cellStart[cell] }
 
-  /** @param {number} slot */
-  startOf (slot) { return this._start[slot] }
-
-  /** @param {number} slot */
-  countOf (slot) { return this._count[slot] }
+  /** @param {number} cell */
+  countOf (cell) { return this.cellStart[cell + 1] - this.cellStart[cell] }
 }

@@ -31,6 +31,8 @@ const SWEEP_CX = 8
 const SWEEP_CY = 9
 const SWEEP_REACH = 10
 export const SWEEP_SIZE = 11
+/** px added to nearBox's reach, so rounding never leaves out a shape that is just in reach. */
+const NEAR_TOLERANCE = 1e-6
 
 export class StaticShapes {
   constructor () {
@@ -114,9 +116,19 @@ export class StaticShapes {
 
   /**
    * Whether some point of the box [minX,maxX]x[minY,maxY] lies within
-   * `margin` of shape `id` (conservative: may answer true when close).
+   * `margin` of shape `id`: exact for a circle (give or take NEAR_TOLERANCE),
+   * conservative for a segment (may answer true when close).
    */
   nearBox (id, margin, minX, minY, maxX, maxY) {
+    if (this.kind[id] === SHAPE_CIRCLE) {
+      // Exact for a disc: its centre's distance to the box, against its radius plus the margin.
+      const p = id * PARAMS_PER_SHAPE
+      const cx = this.params[p]; const cy = this.params[p + 1]
+      const dx = cx < minX ? minX - cx : (cx > maxX ? cx - maxX : 0)
+      const dy = cy < minY ? minY - cy : (cy > maxY ? cy - maxY : 0)
+      const reach = margin + this.params[p + 2] + NEAR_TOLERANCE
+      return dx * dx + dy * dy <= reach * reach
+    }
     const halfW = (maxX - minX) / 2
     const halfH = (maxY - minY) / 2
     // Distance from the box centre against its half diagonal plus the margin.

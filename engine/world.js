@@ -15,7 +15,31 @@ export const MAX_SUBSTEPS = 16
 /** Impacts resolved per sub-step; a ball wedged in a corner stops there for the rest of it. */
 export const MAX_IMPACTS_PER_SUBSTEP = 4
 const TWO_PI = 6.283185307179586
-const NO_CELL = 0x7fffffff
+/** Floats per grid item in World._gridRecords: peg x, y, radius (-1: not a peg). */
+const GRID_RECORD = 3
+/** px: far above the rounding error of board coordinates, far below any distance that matters. */
+const SLAB_TOLERANCE = 1e-6
+
+/**
+ * Whether a circle's straight path certainly misses a peg, from
+ * b = m·d, c = |m|² - reach² and a = |d|² (m: offset from the peg, d: the
+ * path). The squared distance along the path is f(t) = a·t² + 2b·t + c; a
+ * hit needs f ≤ 0 for some t in [0, 1] while approaching (b < 0). Bitwise,
+ * not short-circuit: its parts are cheap, a mispredicted branch is not.
+ */
+function pegPathMisses (b, c, pathLength2) {
+  return (b >= 0) | ((c > 0) & (pathLength2 + 2 * b + c > 0) & ((-b >= pathLength2) | (b * b < pathLength2 * c)))
+}
+
+/**
+ * Whether a circle's straight path certainly misses a segment: its signed
+ * distance to the segment's line stays beyond `slab` (its radius plus
+ * SLAB_TOLERANCE, which keeps the test conservative against rounding) on
+ * one side from start to end, so no part of the segment can be touched.
+ */
+function segmentPathMisses (sideStart, sideEnd, slab) {
+  return ((sideStart > slab) & (sideEnd > slab)) | ((sideStart < -slab) & (sideEnd < -slab))
+}
 
 /**
  * A 2D rigid-body world of dynamic circles and static shapes.
@@ -55,6 +79,7 @@ export class World {
     this.statics = new StaticShapes()
     this.staticGrid = new StaticGrid({ cellSize: options.staticCellSize ?? this.cellSize })
     this._staticsDirty = false
+    this._gridRecords = new Float64Array(0)
     this.tick = 0
     this.bodyCount = 0 // ids 0..bodyCount-1 have been used
     this._freeIds = []
@@ -81,10 +106,9 @@ export class World {
     this.inverseMass = f64('inverseMass'); this.inverseInertia = f64('inverseInertia')
     this.restitution = f64('restitution'); this.friction = f64('friction')
     this.alive = u8('alive')
-    // Last static-grid cell each body was in, so a lookup is only needed when it changes.
-    const i32 = (name) => { const a = new Int32Array(capacity); if (old) a.set(old[name]); return a }
-    this._cellX = i32('_cellX'); this._cellY = i32('_cellY'); this._cellSlot = i32('_cellSlot')
     this.collidesWithBodies = u8('collidesWithBodies')
+    /** bodies _advanceBodies() hands to _advanceBody() this step */
+    this._handedOver = new Int32Array(capacity)
   }
 
   // ---- static geometry -------------------------------------------------
@@ -104,13 +128,22 @@ export class World {
       (id, minX, minY, maxX, maxY) => statics.nearBox(id, margin, minX, minY, maxX, maxY)
     )
     this._staticsDirty = false
-    for (let i = 0; i < this.bodyCount; i++) this._forgetCell(i)
-  }
-
-  _forgetCell (i) {
-    this._cellX[i] = NO_CELL
-    this._cellY[i] = NO_CELL
-    this._cellSlot[i] = -1
+    // The grid's items again, with each peg's centre and radius beside it, so
+    // the sweep reads one contiguous record per candidate; radius -1 marks a
+    // segment, which goes through StaticShapes.sweep().
+    const items = this.staticGrid.items
+    const records = new Float64Array(items.length * GRID_RECORD)
+    for (let k = 0; k < items.length; k++) {
+      const shape = items[k]
+      const r = k * GRID_RECORD
+      if (statics.kind[shape] === SHAPE_CIRCLE) {
+        const p = shape * PARAMS_PER_SHAPE
+        records[r] = statics.params[p]; records[r + 1] = statics.params[p + 1]; records[r + 2] = statics.params[p + 2]
+      } else {
+        records[r + 2] = -1
+      }
+    }
+    this._gridRecords = records
   }
 
   // ---- bodies ----------------------------------------------------------
@@ -145,7 +178,6 @@ export class World {
     this.vy[id] = vy
     this.angle[id] = this.previousAngle[id] = angle
     this.angularVelocity[id] = angularVelocity
-    this._forgetCell(id)
     this.radius[id] = radius
     this.inverseMass[id] = 1 / mass
     this.inverseInertia[id] = 2 / (mass * radius * radius)
@@ -203,13 +235,7 @@ export class World {
   step () {
     if (this._staticsDirty) this._rebuildStaticGrid()
     const count = this.bodyCount
-    for (let i = 0; i < count; i++) {
-      if (this.alive[i] !== 1) continue
-      this.previousX[i] = this.x[i]
-      this.previousY[i] = this.y[i]
-      this.previousAngle[i] = this.angle[i]
-      this._advanceBody(i)
-    }
+    this._advanceBodies(count)
     if (this._pairCount > 1) {
       this._pairHash.rebuild(this.x, this.y, this.collidesWithBodies, count)
       this._pairHash.forEachCandidatePair(count, this._solvePair)
@@ -217,93 +243,215 @@ export class World {
     this.tick++
   }
 
-  _advanceBody (i) {
+  /**
+   * Moves every live body through its sub-steps against the static shapes.
+   * Most bodies, most steps, need one sub-step and hit nothing: this loop
+   * moves those itself and leaves the rest (a possible impact, a fast body)
+   * to _advanceBody(), which does the full swept path. The loop makes no
+   * call and works on locals; a body it hands over is left untouched, and
+   * the arithmetic is the same, so both ways give the same bits.
+   * @param {number} count
+   */
+  _advanceBodies (count) {
+    const maxTravelPerSubstep = MAX_TRAVEL_PER_SUBSTEP // a local: a module constant costs a check on every read
+    const gridRecord = GRID_RECORD
+    const paramsPerShape = PARAMS_PER_SHAPE
+    const slabTolerance = SLAB_TOLERANCE
     const dt = this.timestep
     const gx = this.gravityX
     const gy = this.gravityY
-    let vx = this.vx[i]; let vy = this.vy[i]
-    let angle = this.angle[i]
-    // Speed bound over the whole step (current speed plus what gravity adds),
-    // compared squared so no root is needed.
-    const speedX = (vx < 0 ? -vx : vx) + (gx < 0 ? -gx : gx) * dt
-    const speedY = (vy < 0 ? -vy : vy) + (gy < 0 ? -gy : gy) * dt
-    const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
-    const maxTravel = this.radius[i] * MAX_TRAVEL_PER_SUBSTEP
-    const maxTravel2 = maxTravel * maxTravel
-    let substeps = 1
-    while (substeps < MAX_SUBSTEPS && travel2 > substeps * substeps * maxTravel2) substeps++
-    const h = dt / substeps
+    const absGx = gx < 0 ? -gx : gx
+    const absGy = gy < 0 ? -gy : gy
     const grid = this.staticGrid
-    const inverseCellSize = grid.inverseCellSize
-    let cellX = this._cellX[i]; let cellY = this._cellY[i]; let slot = this._cellSlot[i]
-    const statics = this.statics
+    const cellStart = grid.cellStart
     const items = grid.items
+    const records = this._gridRecords
+    const shapeParams = this.statics.params
+    const alive = this.alive
+    const xs = this.x; const ys = this.y
+    const vxs = this.vx; const vys = this.vy
+    const angles = this.angle; const angularVelocities = this.angularVelocity
+    const previousXs = this.previousX; const previousYs = this.previousY; const previousAngles = this.previousAngle
+    const radii = this.radius
+    const handedOver = this._handedOver
+    let handedOverCount = 0
+    for (let i = 0; i < count; i++) {
+      if (alive[i] !== 1) continue
+      const x = xs[i]; const y = ys[i]
+      previousXs[i] = x
+      previousYs[i] = y
+      previousAngles[i] = angles[i]
+      let vx = vxs[i]; let vy = vys[i]
+      const radius = radii[i]
+      // The sub-step count as _advanceBody() works it out: more than one hands the body over.
+      const speedX = (vx < 0 ? -vx : vx) + absGx * dt
+      const speedY = (vy < 0 ? -vy : vy) + absGy * dt
+      const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
+      const maxTravel = radius * maxTravelPerSubstep
+      if (travel2 > maxTravel * maxTravel) { handedOver[handedOverCount++] = i; continue }
+      vx += gx * dt
+      vy += gy * dt
+      const dx = vx * dt
+      const dy = vy * dt
+      const cell = grid.cellAt(x, y)
+      if (cell >= 0) {
+        const pathLength2 = dx * dx + dy * dy
+        let clear = true
+        for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
+          const r = k * gridRecord
+          const pegRadius = records[r + 2]
+          if (pegRadius > 0) {
+            const mx = x - records[r]; const my = y - records[r + 1]
+            const b = mx * dx + my * dy
+            const reach = radius + pegRadius
+            const c = mx * mx + my * my - reach * reach
+            if (pegPathMisses(b, c, pathLength2)) continue
+          } else {
+            const p = items[k] * paramsPerShape
+            const nx = shapeParams[p + 4]; const ny = shapeParams[p + 5]
+            const sideStart = (x - shapeParams[p]) * nx + (y - shapeParams[p + 1]) * ny
+            if (segmentPathMisses(sideStart, sideStart + dx * nx + dy * ny, radius + slabTolerance)) continue
+          }
+          clear = false
+          break
+        }
+        if (!clear) { handedOver[handedOverCount++] = i; continue }
+      }
+      let angle = angles[i] + angularVelocities[i] * dt
+      if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
+      xs[i] = x + dx; ys[i] = y + dy
+      vxs[i] = vx; vys[i] = vy
+      angles[i] = angle
+    }
+    for (let k = 0; k < handedOverCount; k++) this._advanceBody(handedOver[k])
+  }
+
+  /**
+   * The full step of body i: sub-steps of at most maxTravel, each a straight
+   * path swept against the static shapes, stopping at every first impact to
+   * resolve it and carrying on with the new velocity.
+   * @param {number} i
+   */
+  _advanceBody (i) {
+    const maxSubsteps = MAX_SUBSTEPS
+    const maxImpacts = MAX_IMPACTS_PER_SUBSTEP
+    const maxTravelPerSubstep = MAX_TRAVEL_PER_SUBSTEP
+    const gridRecord = GRID_RECORD
+    const paramsPerShape = PARAMS_PER_SHAPE
+    const slabTolerance = SLAB_TOLERANCE
+    const sweepDx = SWEEP_DX; const sweepDy = SWEEP_DY; const sweepTime = SWEEP_TIME
+    const sweepNx = SWEEP_NX; const sweepNy = SWEEP_NY; const sweepDepth = SWEEP_DEPTH
+    const dt = this.timestep
+    const gx = this.gravityX
+    const gy = this.gravityY
+    const absGx = gx < 0 ? -gx : gx
+    const absGy = gy < 0 ? -gy : gy
+    const grid = this.staticGrid
+    const cellStart = grid.cellStart
+    const items = grid.items
+    const records = this._gridRecords
+    const statics = this.statics
+    const shapeParams = statics.params
     const sweep = this._sweep
     const contact = this._contact
-    const shapeKind = statics.kind
-    const shapeParams = statics.params
-    const radius = this.radius[i]
     const xs = this.x; const ys = this.y
+    const vxs = this.vx; const vys = this.vy
+    const angularVelocities = this.angularVelocity
+    const radii = this.radius
+    let vx = vxs[i]; let vy = vys[i]
+    let angle = this.angle[i]
+    const radius = radii[i]
+    // Speed bound over the whole step (current speed plus what gravity adds),
+    // compared squared so no root is needed.
+    const speedX = (vx < 0 ? -vx : vx) + absGx * dt
+    const speedY = (vy < 0 ? -vy : vy) + absGy * dt
+    const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
+    const maxTravel = radius * maxTravelPerSubstep
+    const maxTravel2 = maxTravel * maxTravel
+    let substeps = 1
+    while (substeps < maxSubsteps && travel2 > substeps * substeps * maxTravel2) substeps++
+    const h = dt / substeps
     for (let s = 0; s < substeps; s++) {
       vx += gx * h
       vy += gy * h
-      angle += this.angularVelocity[i] * h
+      angle += angularVelocities[i] * h
       if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
       // Move along the straight sub-step path, stopping at each first impact
       // to resolve it, then carrying on with the new velocity.
       let remaining = 1
-      for (let impact = 0; impact < MAX_IMPACTS_PER_SUBSTEP && remaining > 0; impact++) {
-        const ix = Math.floor(xs[i] * inverseCellSize)
-        const iy = Math.floor(ys[i] * inverseCellSize)
-        if (ix !== cellX || iy !== cellY) {
-          cellX = ix; cellY = iy
-          slot = grid.slotOf(ix, iy)
-        }
+      for (let impact = 0; impact < maxImpacts && remaining > 0; impact++) {
+        const x = xs[i]; const y = ys[i]
+        const cell = grid.cellAt(x, y)
         const dx = vx * h * remaining
         const dy = vy * h * remaining
         let first = -1
         let firstTime = 2
-        if (slot >= 0) {
-          sweep[SWEEP_DX] = dx; sweep[SWEEP_DY] = dy
-          const x = xs[i]; const y = ys[i]
+        if (cell >= 0) {
           const pathLength2 = dx * dx + dy * dy
-          for (let k = grid.startOf(slot), end = k + grid.countOf(slot); k < end; k++) {
-            const shape = items[k]
-            if (shapeKind[shape] === SHAPE_CIRCLE) {
-              // Most candidates are pegs the path does not reach: reject them
-              // here. With m the offset from the peg, the squared distance
-              // along the path is f(t) = a·t² + 2b·t + c; a hit needs f ≤ 0
-              // for some t in [0, 1] while approaching (b < 0).
-              const p = shape * PARAMS_PER_SHAPE
-              const mx = x - shapeParams[p]; const my = y - shapeParams[p + 1]
+          for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
+            const r = k * gridRecord
+            const pegRadius = records[r + 2]
+            if (pegRadius > 0) {
+              // Most candidates are pegs the path does not reach: reject
+              // them first. The rest is the sweep of static-shapes.js
+              // (sweepPoint), written out so a peg costs no call.
+              const mx = x - records[r]; const my = y - records[r + 1]
               const b = mx * dx + my * dy
-              if (b >= 0) continue
-              const reach = radius + shapeParams[p + 2]
-              const c = mx * mx + my * my - reach * reach
-              if (c > 0 && pathLength2 + 2 * b + c > 0 && (-b >= pathLength2 || b * b < pathLength2 * c)) continue
+              const reach = radius + pegRadius
+              const reach2 = reach * reach
+              const c = mx * mx + my * my - reach2
+              if (pegPathMisses(b, c, pathLength2)) continue
+              if (c > 0) {
+                const discriminant = b * b - pathLength2 * c
+                if (discriminant < 0) continue
+                // The smaller root (-b - √D)/a as c/(-b + √D): no cancellation.
+                const t = c / (-b + Math.sqrt(discriminant))
+                if (t > 1 || !(t < firstTime)) continue
+                first = items[k]
+                firstTime = t
+                contact[sweepNx] = (mx + dx * t) / reach; contact[sweepNy] = (my + dy * t) / reach; contact[sweepDepth] = 0
+              } else if (firstTime > 0) {
+                // Already touching and approaching: contact now.
+                const dist2 = c + reach2
+                first = items[k]
+                firstTime = 0
+                if (dist2 > 0) {
+                  const dist = Math.sqrt(dist2)
+                  contact[sweepNx] = mx / dist; contact[sweepNy] = my / dist; contact[sweepDepth] = reach - dist
+                } else {
+                  contact[sweepNx] = 0; contact[sweepNy] = -1; contact[sweepDepth] = reach
+                }
+              }
+              continue
             }
+            // A segment (wall).
+            const shape = items[k]
+            const p = shape * paramsPerShape
+            const nx = shapeParams[p + 4]; const ny = shapeParams[p + 5]
+            const sideStart = (x - shapeParams[p]) * nx + (y - shapeParams[p + 1]) * ny
+            if (segmentPathMisses(sideStart, sideStart + dx * nx + dy * ny, radius + slabTolerance)) continue
             // Strictly earlier wins, so ties go to the lowest shape id.
-            if (statics.sweep(shape, this, i, sweep) && sweep[SWEEP_TIME] < firstTime) {
+            sweep[sweepDx] = dx; sweep[sweepDy] = dy
+            if (statics.sweep(shape, this, i, sweep) && sweep[sweepTime] < firstTime) {
               first = shape
-              firstTime = sweep[SWEEP_TIME]
-              contact[SWEEP_NX] = sweep[SWEEP_NX]; contact[SWEEP_NY] = sweep[SWEEP_NY]; contact[SWEEP_DEPTH] = sweep[SWEEP_DEPTH]
+              firstTime = sweep[sweepTime]
+              contact[sweepNx] = sweep[sweepNx]; contact[sweepNy] = sweep[sweepNy]; contact[sweepDepth] = sweep[sweepDepth]
             }
           }
         }
         if (first < 0) {
-          xs[i] += dx; ys[i] += dy
+          xs[i] = x + dx; ys[i] = y + dy
           break
         }
-        xs[i] += dx * firstTime; ys[i] += dy * firstTime
+        xs[i] = x + dx * firstTime; ys[i] = y + dy * firstTime
         remaining -= remaining * firstTime
-        this.vx[i] = vx; this.vy[i] = vy
+        vxs[i] = vx; vys[i] = vy
         solveStaticContact(this, i, statics, first, contact)
-        vx = this.vx[i]; vy = this.vy[i]
+        vx = vxs[i]; vy = vys[i]
       }
     }
-    this.vx[i] = vx; this.vy[i] = vy
+    vxs[i] = vx; vys[i] = vy
     this.angle[i] = angle
-    this._cellX[i] = cellX; this._cellY[i] = cellY; this._cellSlot[i] = slot
   }
 
   _collidePair (i, j) {

@@ -81,7 +81,7 @@ describe('StaticGrid (static broad phase)', () => {
       const x = -20 + random() * 640
       const y = -20 + random() * 640
       const listed = new Set()
-      const slot = grid.slotAt(x, y)
+      const slot = grid.cellAt(x, y)
       if (slot >= 0) for (let k = grid.startOf(slot); k < grid.startOf(slot) + grid.countOf(slot); k++) listed.add(grid.items[k])
       for (let id = 0; id < shapes.count; id++) {
         if (shapes.distanceSquaredTo(id, x, y) <= maxRadius * maxRadius) {
@@ -100,7 +100,7 @@ describe('StaticGrid (static broad phase)', () => {
     const grid = world.staticGrid
     for (let y = 0; y < 300; y += 10) {
       for (let x = 0; x < 300; x += 10) {
-        const slot = grid.slotAt(x, y)
+        const slot = grid.cellAt(x, y)
         if (slot < 0) continue
         for (let k = grid.startOf(slot) + 1; k < grid.startOf(slot) + grid.countOf(slot); k++) {
           expect(grid.items[k]).toBeGreaterThan(grid.items[k - 1])
