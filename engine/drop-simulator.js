@@ -32,9 +32,7 @@ export class DropSimulator {
   /** @param {import('./board.js').Board} board */
   constructor (board) {
     this.board = board
-    this.world = new World({ maxBodyRadius: board.ballRadius, staticCellSize: STATIC_CELL_SIZE })
-    for (const peg of board.pegs) this.world.addStaticCircle(peg.x, peg.y, board.pegRadius, HARD_PLASTIC)
-    for (const [x1, y1, x2, y2] of board.walls) this.world.addStaticSegment(x1, y1, x2, y2, HARD_PLASTIC)
+    this.world = new World({ maxBodyRadius: board.ballRadius, sharedStatics: boardStatics(board) })
     // Per body id: the caller's key and ticks since release (-1: not a drop).
     this._keys = []
     this._ticks = new Int32Array(64).fill(-1)
@@ -108,6 +106,21 @@ export class DropSimulator {
     this._inFlight--
     world.destroyBody(id)
   }
+}
+
+/** board → a world holding only its pegs and walls, shared by every DropSimulator on that board */
+const staticWorlds = new WeakMap()
+
+/** @param {import('./board.js').Board} board */
+function boardStatics (board) {
+  let world = staticWorlds.get(board)
+  if (!world) {
+    world = new World({ maxBodyRadius: board.ballRadius, staticCellSize: STATIC_CELL_SIZE, capacity: 1 })
+    for (const peg of board.pegs) world.addStaticCircle(peg.x, peg.y, board.pegRadius, HARD_PLASTIC)
+    for (const [x1, y1, x2, y2] of board.walls) world.addStaticSegment(x1, y1, x2, y2, HARD_PLASTIC)
+    staticWorlds.set(board, world)
+  }
+  return world
 }
 
 const simulators = new WeakMap()

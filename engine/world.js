@@ -67,6 +67,11 @@ export class World {
    * @param {number} [options.maxBodyRadius] largest dynamic radius allowed, default cellSize / 2
    * @param {number} [options.maxStepsPerUpdate] cap on steps per update() call
    * @param {number} [options.capacity] initial body capacity
+   * @param {World} [options.sharedStatics] a world whose static shapes (and
+   *   their grid) this one uses, read-only, instead of holding its own: many
+   *   worlds on one board then share one copy, which stays in the CPU's cache.
+   *   Its maxBodyRadius and staticCellSize must cover this world's; neither
+   *   world may add static shapes afterwards.
    */
   constructor (options = {}) {
     this.gravityX = options.gravityX ?? 0
@@ -76,13 +81,26 @@ export class World {
     this.maxBodyRadius = options.maxBodyRadius ?? this.cellSize / 2
     if (!(this.maxBodyRadius * 2 <= this.cellSize)) throw new RangeError('cellSize must be at least twice maxBodyRadius')
     this.clock = new FixedTimestep({ timestep: this.timestep, maxSteps: options.maxStepsPerUpdate ?? 5 })
-    this.statics = new StaticShapes()
-    this.staticGrid = new StaticGrid({ cellSize: options.staticCellSize ?? this.cellSize })
+    const shared = options.sharedStatics
+    if (shared) {
+      if (!(shared instanceof World)) throw new TypeError('sharedStatics must be a World')
+      if (!(shared.maxBodyRadius >= this.maxBodyRadius)) throw new RangeError('sharedStatics must allow bodies at least as large (maxBodyRadius)')
+      if (shared._staticsDirty) shared._rebuildStaticGrid()
+      shared._staticsLocked = true
+      this.statics = shared.statics
+      this.staticGrid = shared.staticGrid
+      this._gridRecords = shared._gridRecords
+    } else {
+      this.statics = new StaticShapes()
+      this.staticGrid = new StaticGrid({ cellSize: options.staticCellSize ?? this.cellSize })
+      this._gridRecords = new Float64Array(0)
+    }
     this._staticsDirty = false
-    this._gridRecords = new Float64Array(0)
+    /** true when the static shapes are shared with other worlds, so they cannot change */
+    this._staticsLocked = Boolean(shared)
     this.tick = 0
     this.bodyCount = 0 // ids 0..bodyCount-1 have been used
-    this._freeIds = []
+    this._freeCount = 0 // _freeIds[0.._freeCount-1]: ids of destroyed bodies, descending
     this._allocate(options.capacity ?? 64)
     this._pairHash = new SpatialHash({ cellSize: this.cellSize, capacity: this.capacity })
     this._pairCount = 0 // live bodies that collide with other bodies
@@ -109,13 +127,20 @@ export class World {
     this.collidesWithBodies = u8('collidesWithBodies')
     /** bodies _advanceBodies() hands to _advanceBody() this step */
     this._handedOver = new Int32Array(capacity)
+    const i32 = (name) => { const a = new Int32Array(capacity); if (old) a.set(old[name]); return a }
+    this._freeIds = i32('_freeIds')
   }
 
   // ---- static geometry -------------------------------------------------
 
-  addStaticCircle (x, y, radius, material) { this._staticsDirty = true; return this.statics.addCircle(x, y, radius, material) }
-  addStaticSegment (x1, y1, x2, y2, material) { this._staticsDirty = true; return this.statics.addSegment(x1, y1, x2, y2, material) }
-  addStaticBox (minX, minY, maxX, maxY, material) { this._staticsDirty = true; return this.statics.addBox(minX, minY, maxX, maxY, material) }
+  addStaticCircle (x, y, radius, material) { this._changeStatics(); return this.statics.addCircle(x, y, radius, material) }
+  addStaticSegment (x1, y1, x2, y2, material) { this._changeStatics(); return this.statics.addSegment(x1, y1, x2, y2, material) }
+  addStaticBox (minX, minY, maxX, maxY, material) { this._changeStatics(); return this.statics.addBox(minX, minY, maxX, maxY, material) }
+
+  _changeStatics () {
+    if (this._staticsLocked) throw new Error('static shapes are shared with another world (sharedStatics) and cannot change')
+    this._staticsDirty = true
+  }
 
   _rebuildStaticGrid () {
     // A body looks up the cell where its sub-step path starts; the path is at
@@ -168,7 +193,7 @@ export class World {
       throw new RangeError('x, y, vx, vy, angle and angularVelocity must be finite numbers')
     }
     const material = def.material ?? METAL
-    const id = this._freeIds.length > 0 ? this._freeIds.pop() : this.bodyCount++
+    const id = this._freeCount > 0 ? this._freeIds[--this._freeCount] : this.bodyCount++
     if (id >= this.capacity) this._allocate(this.capacity * 2)
     // Solid disc: m = ρ·π·r², I = m·r²/2.
     const mass = material.density * Math.PI * radius * radius
@@ -197,10 +222,9 @@ export class World {
     if (this.collidesWithBodies[id] === 1) this._pairCount--
     this.collidesWithBodies[id] = 0
     // Free ids are kept in descending order, so the lowest comes back first:
-    // insert in place rather than sort, which would allocate.
+    // inserted in place in a typed array, so destroying allocates nothing.
     const free = this._freeIds
-    let k = free.length
-    free.push(id)
+    let k = this._freeCount++
     while (k > 0 && free[k - 1] < id) { free[k] = free[k - 1]; k-- }
     free[k] = id
   }
