@@ -29,7 +29,7 @@ async function startServer (env) {
   const port = await freePort()
   const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
     cwd: ROOT,
-    env: { ...process.env, PORT: String(port), HOST: '127.0.0.1', LOG_LEVEL: 'warn', OPERATOR_TOKEN: 'operator-token-for-bench-0123456789', CLIENT_DIR: '/nonexistent', HTTP_RATE_LIMIT: '1000000000', SESSION_RATE_LIMIT: '1000000000', WS_MAX_CONNECTIONS_PER_IP: '1000000', WS_MAX_CONNECTIONS: '1000000', ...env, PUBLIC_URL: env.REDIS_URL ? `http://127.0.0.1:${port}` : '' },
+    env: { ...process.env, PORT: String(port), HOST: '127.0.0.1', LOG_LEVEL: 'warn', OPERATOR_TOKEN: 'operator-token-for-bench-0123456789', CLIENT_DIR: '/nonexistent', HTTP_RATE_LIMIT: '1000000000', SESSION_RATE_LIMIT: '1000000000', DROP_RATE_PER_IP: '1000000', JOIN_RATE_PER_IP: '1000000', WS_MAX_CONNECTIONS_PER_IP: '1000000', WS_MAX_CONNECTIONS: '1000000', ...env, PUBLIC_URL: env.REDIS_URL ? `http://127.0.0.1:${port}` : '' },
     stdio: ['ignore', 'inherit', 'inherit']
   })
   const url = `http://127.0.0.1:${port}`

@@ -70,6 +70,21 @@ export class GameSocket {
     return true
   }
 
+  /**
+   * Replaces the connection at once, without backoff: the URL changed
+   * (E_WRONG_NODE named another process).
+   */
+  reconnectNow () {
+    const socket = this.socket
+    this.socket = null
+    clearInterval(this._pingTimer)
+    clearTimeout(this._retryTimer)
+    socket?.close(1000, 'moving to another server')
+    if (this.stopped) return
+    this.attempt = 0
+    this._connect()
+  }
+
   /** Closes the current connection as if the network dropped it (used by tests and the UI). */
   drop () {
     this._abandon(4000, 'closed by the client')

@@ -2,7 +2,7 @@ import { ENGINE_VERSION } from '/engine/index.js'
 import { byId, el, formatAmount, shortHex } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
-import { decodeSnapshot, parseRoomId, roomIdOf, ROWS, RISKS } from './protocol.js'
+import { decodeSnapshot, parseRoomId, roomIdOf, socketUrl, ROWS, RISKS } from './protocol.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { DropVerifier } from './drop-verifier.js'
@@ -19,6 +19,8 @@ import { FairnessPanel } from './fairness-panel.js'
 const ROOM_KEY = 'plinko.room'
 const BET_KEY = 'plinko.bet'
 const AUTO_DROP_EVERY_MS = 250
+/** E_WRONG_NODE redirects followed in a row without a join; past this the page stops and says so. */
+const MAX_REDIRECTS = 3
 
 const session = new Session()
 const verifier = new DropVerifier()
@@ -35,6 +37,9 @@ const state = {
   roomId: initialRoom(),
   /** @type {string | null} the room the server says we are in */
   joinedRoom: null,
+  /** Where the socket connects: this page's directory, or the process E_WRONG_NODE named. */
+  socketBase: new URL('.', location.href).href,
+  redirects: 0,
   /** @type {RoomView | null} */
   view: null,
   /** @type {SnapshotTimeline | null} */
@@ -48,7 +53,7 @@ const state = {
 }
 
 const socket = new GameSocket({
-  url: () => `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws?token=${encodeURIComponent(session.token ?? '')}`,
+  url: () => socketUrl(state.socketBase, session.token ?? ''),
   onMessage: handleMessage,
   onBinary: handleSnapshot,
   onStatus: showStatus,
@@ -93,6 +98,7 @@ function onWelcome (message) {
 }
 
 function onJoined (message) {
+  state.redirects = 0
   const parsed = parseRoomId(message.room)
   const board = verifier.board(parsed.rows, parsed.risk)
   if (!sameBoard(board, message.board)) {
@@ -142,6 +148,7 @@ function onSettled (message) {
 }
 
 function onError (message) {
+  if (message.code === 'E_WRONG_NODE') return followRedirect(message)
   say(`${message.code}: ${message.message}`, 'error')
   if (typeof message.ref !== 'string' || !message.ref.startsWith('auto-') || state.auto.timer === null) return
   // A refused auto-drop: try that ball again later, or stop when retrying cannot help.
@@ -172,6 +179,24 @@ function track (announced) {
 async function reconcile () {
   await loadHistory()
   updateSummary()
+}
+
+/**
+ * Clustered, the room runs on another process: reconnect there (the
+ * `welcome` handler joins the room again). Bounded, so two processes that
+ * disagree cannot bounce the page for ever.
+ */
+function followRedirect (message) {
+  if (message.room !== state.roomId) return
+  if (state.redirects >= MAX_REDIRECTS || socketUrl(message.owner, '') === null) {
+    say(`Room ${message.room} runs on ${message.owner}, which this page could not join: reload to try again.`, 'error')
+    return
+  }
+  state.redirects++
+  state.socketBase = message.owner
+  state.joinedRoom = null
+  say(`Room ${message.room} runs on another server; moving there…`)
+  socket.reconnectNow()
 }
 
 // ---- actions ------------------------------------------------------------
@@ -399,6 +424,8 @@ window.__plinko = {
   get room () { return state.joinedRoom },
   get status () { return state.status },
   get connects () { return socket.connects },
+  /** where the socket connects (changes after an E_WRONG_NODE redirect) */
+  get socketBase () { return state.socketBase },
   get verifications () { return verifier.results.map((v) => ({ ...v })) },
   get pendingVerifications () { return verifier.pending.size },
   get history () { return history.entries },

@@ -72,6 +72,8 @@ function startServer () {
     STARTING_BALANCE: String(START),
     HTTP_RATE_LIMIT: '1000000000',
     SESSION_RATE_LIMIT: '1000000000',
+    DROP_RATE_PER_IP: '1000000',
+    JOIN_RATE_PER_IP: '1000000',
     WS_MAX_CONNECTIONS_PER_IP: '1000000',
     CLIENT_DIR: path.join(tempDir, 'no-client')
   })

@@ -34,6 +34,9 @@ import clientAssetRoutes, { inlineScriptHashes } from './routes/client-assets.js
  *   the simulation still advances 1/60 s per tick, so outcomes are unchanged)
  * @param {object} [options.logger] fastify logger options, or false
  */
+/** Longest an idle keep-alive connection stays open between requests. */
+const KEEP_ALIVE_MS = 5000
+
 export async function buildApp (config, options = {}) {
   const app = Fastify({
     logger: options.logger ?? {
@@ -43,6 +46,14 @@ export async function buildApp (config, options = {}) {
     },
     trustProxy: config.trustProxy,
     bodyLimit: 16 * 1024,
+    // Idle and slow HTTP connections are closed, so they cannot pile up (a
+    // WebSocket leaves these behind: ws clears the socket's timeout on upgrade).
+    connectionTimeout: config.httpIdleTimeoutMs,
+    keepAliveTimeout: Math.min(KEEP_ALIVE_MS, config.httpIdleTimeoutMs),
+    requestTimeout: config.httpRequestTimeoutMs,
+    // Node checks for requests past their timeout on this period (default 30 s): a slow
+    // sender (slowloris) is answered 408 and closed within about one period of its deadline.
+    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs) },
     // Errors raised before routing (a malformed URL such as '/%') get a named code too.
     frameworkErrors: (error, request, reply) => {
       reply.code(400).send({ code: 'E_BAD_REQUEST', message: error.message })

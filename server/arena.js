@@ -48,7 +48,7 @@ export class Arena {
     this.log = log
     this.nextDropId = firstDropId
     this.accepting = true
-    this.accounts = new AccountBook({ store, limits: { dropRate: config.dropRate, dropBurst: config.dropBurst } })
+    this.accounts = new AccountBook({ store, limits: { dropRate: config.dropRate, dropBurst: config.dropBurst, joinRate: config.joinRate } })
     this.rooms = new RoomRegistry({
       snapshotEvery: 60 / config.snapshotHz,
       onChange: (room) => {
@@ -179,6 +179,7 @@ export class Arena {
     if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
     const account = connection.account
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
+    if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
     if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
     if (bet > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${account.available} is lower than the bet ${bet}`)
 

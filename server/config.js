@@ -23,12 +23,17 @@ const VARIABLES = {
   LOG_LEVEL: { default: 'info', parse: oneOf(LOG_LEVELS) },
   DROP_RATE: { default: '20', parse: integer(1, 10000) },
   DROP_BURST: { default: '20', parse: integer(1, 10000) },
+  DROP_RATE_PER_IP: { default: '200', parse: integer(1, 1e6) },
+  JOIN_RATE: { default: '5', parse: integer(1, 10000) },
+  JOIN_RATE_PER_IP: { default: '50', parse: integer(1, 1e6) },
   MAX_BALLS_PER_ROOM: { default: '500', parse: integer(1, 4096) },
   WS_MAX_PAYLOAD: { default: '4096', parse: integer(256, 1048576) },
   WS_SOFT_BUFFER: { default: '65536', parse: integer(1, 1 << 30) },
   WS_HARD_BUFFER: { default: '1048576', parse: integer(1, 1 << 30) },
   MAX_CATCH_UP_TICKS: { default: '10', parse: integer(1, 600) },
   HTTP_RATE_LIMIT: { default: '600', parse: integer(1, 1e9) },
+  HTTP_IDLE_TIMEOUT_MS: { default: '30000', parse: integer(100, 3600000) },
+  HTTP_REQUEST_TIMEOUT_MS: { default: '30000', parse: integer(100, 3600000) },
   SESSION_RATE_LIMIT: { default: '30', parse: integer(1, 1e9) },
   WS_MAX_CONNECTIONS: { default: '10000', parse: integer(1, 1e7) },
   WS_MAX_CONNECTIONS_PER_IP: { default: '50', parse: integer(1, 1e7) },
@@ -53,11 +58,16 @@ const VARIABLES = {
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
  * @property {number} dropRate drops per second per player (token bucket refill)
  * @property {number} dropBurst token bucket capacity
+ * @property {number} dropRatePerIp drops per second from one client IP, all its sessions together (burst: 2 s worth)
+ * @property {number} joinRate joins per second per player (burst: 2 s worth)
+ * @property {number} joinRatePerIp joins per second from one client IP (burst: 2 s worth)
  * @property {number} maxBallsPerRoom @property {number} wsMaxPayload
  * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
  * @property {number} sessionRateLimit new sessions per IP per minute
+ * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
+ * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
  * @property {number} wsMaxConnections open WebSockets in total
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
@@ -119,12 +129,17 @@ export function loadConfig (env = process.env) {
     logLevel: values.LOG_LEVEL,
     dropRate: values.DROP_RATE,
     dropBurst: values.DROP_BURST,
+    dropRatePerIp: values.DROP_RATE_PER_IP,
+    joinRate: values.JOIN_RATE,
+    joinRatePerIp: values.JOIN_RATE_PER_IP,
     maxBallsPerRoom: values.MAX_BALLS_PER_ROOM,
     wsMaxPayload: values.WS_MAX_PAYLOAD,
     wsSoftBuffer: values.WS_SOFT_BUFFER,
     wsHardBuffer: values.WS_HARD_BUFFER,
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
+    httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
+    httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
     wsMaxConnections: values.WS_MAX_CONNECTIONS,
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,

@@ -49,6 +49,8 @@ export async function startServer ({ dataDir, logFile, env = {}, profileDir, cpu
     LOG_LEVEL: 'warn',
     HTTP_RATE_LIMIT: '1000000000',
     SESSION_RATE_LIMIT: '1000000000',
+    DROP_RATE_PER_IP: '1000000',
+    JOIN_RATE_PER_IP: '1000000',
     // Every virtual user connects from 127.0.0.1: lift the per-IP WebSocket cap (default 50).
     WS_MAX_CONNECTIONS_PER_IP: '1000000',
     WS_MAX_CONNECTIONS: '1000000',

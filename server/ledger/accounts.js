@@ -11,7 +11,7 @@ export class Account {
   /**
    * @param {{ playerId: string, balance: number, clientSeed: string, createdAt: number,
    *   seed: { id: string, seed: string, hash: string, nextNonce: number } }} state
-   * @param {{ dropRate: number, dropBurst: number }} limits
+   * @param {{ dropRate: number, dropBurst: number, joinRate: number }} limits
    */
   constructor (state, limits) {
     this.playerId = state.playerId
@@ -22,6 +22,7 @@ export class Account {
     /** The active server seed; `nextNonce` is taken (and never given back) when a drop is accepted. */
     this.seed = state.seed
     this.dropLimiter = new TokenBucket({ rate: limits.dropRate, burst: limits.dropBurst })
+    this.joinLimiter = new TokenBucket({ rate: limits.joinRate, burst: 2 * limits.joinRate })
     /** @type {Set<import('../realtime/connection.js').Connection>} */
     this.connections = new Set()
     /** Reasons to keep this object in memory: connections, requests, drops in flight. */
@@ -38,7 +39,7 @@ export class Account {
  * never exist in the process. One process owns a database's players.
  */
 export class AccountBook {
-  /** @param {{ store: any, limits: { dropRate: number, dropBurst: number } }} options */
+  /** @param {{ store: any, limits: { dropRate: number, dropBurst: number, joinRate: number } }} options */
   constructor ({ store, limits }) {
     this.store = store
     this.limits = limits

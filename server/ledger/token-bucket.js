@@ -1,6 +1,7 @@
 /**
  * A token bucket: `burst` tokens, refilled at `rate` per second. Used to
- * limit drops per player; time comes from a monotonic clock.
+ * limit drops and joins per player and per IP; time comes from a
+ * monotonic clock.
  */
 export class TokenBucket {
   /** @param {{ rate: number, burst: number, now?: () => number }} options now() in ms */
@@ -14,11 +15,21 @@ export class TokenBucket {
 
   /** Takes one token if there is one. @returns {boolean} */
   take () {
-    const now = this.now()
-    this.tokens = Math.min(this.burst, this.tokens + (now - this.updatedAt) * this.rate / 1000)
-    this.updatedAt = now
+    this._refill()
     if (this.tokens < 1) return false
     this.tokens -= 1
     return true
+  }
+
+  /** Whether the bucket has refilled to its burst (nothing to remember). */
+  isFull () {
+    this._refill()
+    return this.tokens >= this.burst
+  }
+
+  _refill () {
+    const now = this.now()
+    this.tokens = Math.min(this.burst, this.tokens + (now - this.updatedAt) * this.rate / 1000)
+    this.updatedAt = now
   }
 }

@@ -39,6 +39,8 @@ export class Connection {
     this.room = null
     this.closed = false
     this.alive = true
+    /** This client IP's shared drop and join buckets (server/realtime/ip-limits.js); null when not behind the route (tests, benchmarks). */
+    this.ipLimits = null
     this._early = []
     socket.on('message', (data, isBinary) => {
       if (this.account) this._receive(data, isBinary)
@@ -119,6 +121,8 @@ export class Connection {
     const arena = this.arena
     switch (message.type) {
       case 'join': {
+        if (!this.account.joinLimiter.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRate} joins per second per player`)
+        if (this.ipLimits && !this.ipLimits.joins.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRatePerIp} joins per second from one address`)
         const joined = arena.join(this, message.room)
         // Clustered, joining a room that runs nowhere yet is async (server/cluster/cluster-node.js).
         if (typeof joined?.then === 'function') {

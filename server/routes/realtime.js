@@ -3,6 +3,7 @@ import { createMessageParser } from '../realtime/message-schemas.js'
 import { playerIdForToken } from '../auth.js'
 import { ERROR_CODES, gameError } from '../errors.js'
 import { TokenBucket } from '../ledger/token-bucket.js'
+import { IpLimits } from '../realtime/ip-limits.js'
 
 /**
  * GET /ws?token=TOKEN: the game's WebSocket. Browsers cannot set headers
@@ -13,12 +14,17 @@ import { TokenBucket } from '../ledger/token-bucket.js'
  * @param {import('fastify').FastifyInstance} app
  * @param {{ arena: import('../arena.js').Arena }} options
  */
+/** How often IPs with nothing open and full buckets are forgotten. */
+const IP_SWEEP_MS = 60_000
+
 export default async function realtimeRoutes (app, { arena }) {
   const { config, metrics } = arena
   const parseMessage = createMessageParser(config)
-  /** Open sockets per client IP (request.ip: honours TRUST_PROXY), and in total. */
-  const perIp = new Map()
+  /** Per client IP (request.ip: honours TRUST_PROXY): open sockets, drop and join buckets. And sockets in total. */
+  const ipLimits = new IpLimits({ dropRate: config.dropRatePerIp, joinRate: config.joinRatePerIp })
   let open = 0
+  const sweeper = setInterval(() => ipLimits.sweep(), IP_SWEEP_MS).unref()
+  app.addHook('onClose', async () => clearInterval(sweeper))
   app.get('/ws', {
     schema: {
       summary: 'WebSocket endpoint of the game protocol',
@@ -39,18 +45,16 @@ export default async function realtimeRoutes (app, { arena }) {
         messageLimiter: new TokenBucket({ rate: config.wsMessageRate, burst: config.wsMessageBurst })
       })
       const ip = request.ip
-      if (open >= config.wsMaxConnections || (perIp.get(ip) ?? 0) >= config.wsMaxConnectionsPerIp) {
+      if (open >= config.wsMaxConnections || ipLimits.openFrom(ip) >= config.wsMaxConnectionsPerIp) {
         connection.sendError('E_TOO_MANY_CONNECTIONS')
         connection.close(ERROR_CODES.E_TOO_MANY_CONNECTIONS.close, 'E_TOO_MANY_CONNECTIONS')
         return
       }
       open++
-      perIp.set(ip, (perIp.get(ip) ?? 0) + 1)
+      connection.ipLimits = ipLimits.acquire(ip)
       socket.once('close', () => {
         open--
-        const left = perIp.get(ip) - 1
-        if (left === 0) perIp.delete(ip)
-        else perIp.set(ip, left)
+        ipLimits.release(connection.ipLimits)
       })
       if (!arena.accepting) {
         connection.sendError('E_UNAVAILABLE')

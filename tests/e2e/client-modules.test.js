@@ -2,11 +2,12 @@
  * The browser client's pure modules, run in Node: the snapshot decoder
  * against the server's encoder, and the playout clock of
  * SnapshotTimeline (out-of-order frames slotted in, stale ones dropped,
- * the render clock never going backwards).
+ * the render clock never going backwards), and the socket URL the page
+ * connects to, before and after an E_WRONG_NODE redirect.
  */
 import { describe, it, expect } from 'vitest'
 import { encodeSnapshot, decodeSnapshot as serverDecode } from '../../server/rooms/snapshot-codec.js'
-import { decodeSnapshot } from '../../client/protocol.js'
+import { decodeSnapshot, socketUrl } from '../../client/protocol.js'
 import { SnapshotTimeline } from '../../client/snapshot-timeline.js'
 
 function lcg (seed) {
@@ -105,5 +106,20 @@ describe('SnapshotTimeline', () => {
     const timeline = new SnapshotTimeline({ tickRate: 60, snapshotEvery: 3 })
     for (let tick = 3; tick <= 900; tick += 3) timeline.push(snapshot(tick), tick * 1000 / 180)
     expect(timeline.rate * 1000).toBeCloseTo(180, 3)
+  })
+})
+
+describe('client socket URL', () => {
+  it('connects beside the page, or to the process E_WRONG_NODE names, over ws or wss', () => {
+    expect(socketUrl('http://localhost:8080/', 'abc')).toBe('ws://localhost:8080/ws?token=abc')
+    expect(socketUrl('https://play.example/', 't')).toBe('wss://play.example/ws?token=t')
+    // A page served under a process prefix, and an E_WRONG_NODE owner (no trailing slash).
+    expect(socketUrl('http://lb:8080/n/server1/', 't')).toBe('ws://lb:8080/n/server1/ws?token=t')
+    expect(socketUrl('http://lb:8080/n/server2', 't')).toBe('ws://lb:8080/n/server2/ws?token=t')
+    expect(socketUrl('http://h/', 'a b&c')).toBe('ws://h/ws?token=a%20b%26c')
+  })
+
+  it('refuses anything but an absolute http(s) URL', () => {
+    for (const bad of ['javascript:alert(1)', 'ftp://h/', '/n/1', '', 'not a url']) expect(socketUrl(bad, 't')).toBeNull()
   })
 })

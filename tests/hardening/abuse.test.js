@@ -1,6 +1,7 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createHash } from 'node:crypto'
 import fs from 'node:fs'
+import net from 'node:net'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import WebSocket from 'ws'
@@ -32,6 +33,21 @@ async function serverWith (env, options = {}) {
   server.database = database
   servers.push(server)
   return server
+}
+
+/** A plain TCP connection to the HTTP port, recording what it receives and when it closes. */
+async function rawTcp (port) {
+  const socket = net.connect(port, '127.0.0.1')
+  await new Promise((resolve, reject) => { socket.once('connect', resolve); socket.once('error', reject) })
+  const chunks = []
+  socket.on('data', (chunk) => chunks.push(chunk))
+  socket.on('error', () => {})
+  const closed = new Promise((resolve) => socket.once('close', resolve))
+  return {
+    socket,
+    received: () => Buffer.concat(chunks).toString('latin1'),
+    closedWithin: (ms) => Promise.race([closed.then(() => true), new Promise((resolve) => setTimeout(() => resolve(false), ms))]).finally(() => socket.destroy())
+  }
 }
 
 /** A raw socket that records its close code and the JSON messages it got. */
@@ -81,6 +97,57 @@ describe('rate limits', () => {
     expect(errors.every((m) => m.code === 'E_RATE_LIMITED')).toBe(true)
   })
 
+  it('limits drops per IP across all of its players and sessions, and debits nothing refused', async () => {
+    const server = await serverWith({ DROP_RATE: '1000', DROP_BURST: '1000', DROP_RATE_PER_IP: '2' }) // burst: 4
+    const players = [await server.player('8-low'), await server.player('9-low')]
+    for (let i = 0; i < 6; i++) for (const { client } of players) client.send({ type: 'drop', bet: 1 })
+    const answered = () => players.flatMap(({ client }) => client.messages).filter((m) => m.type === 'dropped' || m.type === 'error').length
+    await eventually(() => answered() >= 12)
+    const messages = players.flatMap(({ client }) => client.messages)
+    const accepted = messages.filter((m) => m.type === 'dropped').length // each player is alone in its room
+    const refused = messages.filter((m) => m.type === 'error')
+    expect(refused.every((m) => m.code === 'E_RATE_LIMITED' && /one address/.test(m.message))).toBe(true)
+    expect(accepted).toBeGreaterThanOrEqual(4)
+    expect(accepted).toBeLessThanOrEqual(6) // the burst, plus what 2/s refills while the frames arrive
+    expect(accepted + refused.length).toBe(12)
+    // Closing and reopening a socket does not hand the address a fresh burst.
+    await players[0].client.close()
+    const again = await server.connect(players[0].token)
+    again.send({ type: 'join', room: '8-low' })
+    await again.take('joined')
+    for (let i = 0; i < 3; i++) again.send({ type: 'drop', bet: 1 })
+    await eventually(() => again.messages.filter((m) => (m.type === 'dropped' && m.player === again.welcome.playerId) || m.type === 'error').length >= 3)
+    expect(again.messages.filter((m) => m.code === 'E_RATE_LIMITED').length).toBeGreaterThanOrEqual(2)
+    const acceptedAgain = again.messages.filter((m) => m.type === 'dropped' && m.player === again.welcome.playerId).length
+    const settledInLedger = async () => {
+      const [row] = await backend.query(server.database.database, "SELECT count(*) AS n, sum(CASE WHEN status = 'settled' THEN 1 ELSE 0 END) AS settled FROM drops")
+      return Number(row.n) === accepted + acceptedAgain && Number(row.settled) === Number(row.n)
+    }
+    await eventually(settledInLedger)
+    await expectConsistentLedger(expect, backend, server.database.database, { playerIds: players.map(({ client }) => client.welcome.playerId), startingBalance: 100000 })
+  })
+
+  it('limits joins per player and per IP', async () => {
+    const perPlayer = await serverWith({ JOIN_RATE: '1', JOIN_RATE_PER_IP: '1000' }) // burst: 2 per player
+    const { client } = await perPlayer.player()
+    for (let i = 0; i < 6; i++) client.send({ type: 'join', room: i % 2 ? '8-low' : '8-high' })
+    await eventually(() => client.messages.filter((m) => m.type === 'joined' || m.type === 'error').length >= 6)
+    expect(client.messages.filter((m) => m.type === 'joined').length).toBeLessThanOrEqual(3)
+    expect(client.messages.filter((m) => m.code === 'E_RATE_LIMITED' && /per player/.test(m.message)).length).toBeGreaterThanOrEqual(3)
+    const other = await perPlayer.player()
+    other.client.send({ type: 'join', room: '8-low' })
+    await other.client.take('joined') // another player from the same address is not held back
+
+    const perIp = await serverWith({ JOIN_RATE: '1000', JOIN_RATE_PER_IP: '1' }) // burst: 2 per address
+    const first = await perIp.player()
+    const second = await perIp.player()
+    for (let i = 0; i < 3; i++) { first.client.send({ type: 'join', room: '8-low' }); second.client.send({ type: 'join', room: '9-low' }) }
+    await eventually(() => [first, second].every(({ client }) => client.messages.filter((m) => m.type === 'joined' || m.type === 'error').length >= 3))
+    const all = [...first.client.messages, ...second.client.messages]
+    expect(all.filter((m) => m.type === 'joined').length).toBeLessThanOrEqual(3)
+    expect(all.filter((m) => m.code === 'E_RATE_LIMITED' && /one address/.test(m.message)).length).toBeGreaterThanOrEqual(3)
+  })
+
   it('limits frames (joins, pings, anything) per connection', async () => {
     const server = await serverWith({ WS_MESSAGE_RATE: '2', WS_MESSAGE_BURST: '10' })
     const { client } = await server.player()
@@ -96,6 +163,24 @@ describe('rate limits', () => {
 })
 
 describe('connection limits, payload and heartbeats', () => {
+  it('closes an HTTP connection that sends nothing (HTTP_IDLE_TIMEOUT_MS) and one that sends its request too slowly (HTTP_REQUEST_TIMEOUT_MS)', async () => {
+    const server = await serverWith({ HTTP_IDLE_TIMEOUT_MS: '300', HTTP_REQUEST_TIMEOUT_MS: '800' })
+    const idle = await rawTcp(server.port)
+    expect(await idle.closedWithin(3000)).toBe(true)
+    // Slowloris: a header line every 100 ms keeps the socket busy, but the request never completes.
+    const slow = await rawTcp(server.port)
+    slow.socket.write('GET /api/rooms HTTP/1.1\r\nHost: localhost\r\n')
+    const drip = setInterval(() => { if (!slow.socket.destroyed) slow.socket.write('X-Slow: 1\r\n') }, 100)
+    try {
+      expect(await slow.closedWithin(5000)).toBe(true)
+      expect(slow.received()).toMatch(/^HTTP\/1\.1 408/)
+    } finally {
+      clearInterval(drip)
+    }
+    // A normal request on a fresh connection is unaffected.
+    expect((await fetch(`http://127.0.0.1:${server.port}/api/rooms`)).status).toBe(200)
+  })
+
   it('refuses WebSockets over the per-IP limit with E_TOO_MANY_CONNECTIONS and close 4429, and frees the slot on close', async () => {
     const server = await serverWith({ WS_MAX_CONNECTIONS_PER_IP: '3' })
     const session = await server.session()

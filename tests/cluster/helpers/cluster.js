@@ -76,6 +76,8 @@ export async function startNode ({ databaseUrl, redisUrl, env = {} }) {
       CLIENT_DIR: '/nonexistent/plinko-client',
       HTTP_RATE_LIMIT: '1000000',
       SESSION_RATE_LIMIT: '1000000',
+      DROP_RATE_PER_IP: '1000000',
+      JOIN_RATE_PER_IP: '1000000',
       ...env
     },
     stdio: ['ignore', 'pipe', 'pipe']

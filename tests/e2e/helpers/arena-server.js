@@ -25,6 +25,8 @@ export async function startArenaServer ({ tickRate = 60, env = {} } = {}) {
     CLIENT_DIR,
     HTTP_RATE_LIMIT: '1000000',
     SESSION_RATE_LIMIT: '1000000',
+    DROP_RATE_PER_IP: '1000000',
+    JOIN_RATE_PER_IP: '1000000',
     ...env
   })
   let app = await buildApp(config, { tickRate, logger: false })

@@ -12,6 +12,8 @@ export function startServerProcess (databaseUrl, env = {}) {
     CLIENT_DIR: '/nonexistent/plinko-client',
     HTTP_RATE_LIMIT: '1000000',
     SESSION_RATE_LIMIT: '1000000',
+    DROP_RATE_PER_IP: '1000000',
+    JOIN_RATE_PER_IP: '1000000',
     ...env
   })
 }

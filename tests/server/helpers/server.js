@@ -23,6 +23,9 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
     LOG_LEVEL: 'silent',
     HTTP_RATE_LIMIT: '1000000',
     SESSION_RATE_LIMIT: '1000000',
+    DROP_RATE_PER_IP: '1000000',
+    JOIN_RATE: '1000',
+    JOIN_RATE_PER_IP: '1000000',
     CLIENT_DIR: '/nonexistent/plinko-client',
     ...env
   })
