@@ -66,7 +66,7 @@ class BenchClient {
     if (type === 'settled' && this.arena.accepting) this.drop()
   }
 
-  sendSnapshot (frame) { this.snapshotBytes += frame.length }
+  sendRoomFrame (frame) { this.snapshotBytes += frame.length }
   sendError () { this.errors++ }
   drop () { this.arena.drop(this, { bet: 1 }) }
 }
@@ -190,8 +190,8 @@ async function run () {
       ['ticks dropped (stalls > 10 ticks)', int(after.dropped - before.dropped)],
       ['balls in flight (mean)', int(ballTotal / Math.max(1, ballSamples))],
       ['drops recorded per second', int(drops / seconds)],
-      ['snapshot bytes per second (all clients)', bytes((after.snapshotBytes - before.snapshotBytes) / seconds)],
-      ['event bytes per second (all clients)', bytes((after.eventBytes - before.eventBytes) / seconds)]
+      ['room frame bytes per second (all clients; snapshots + batched events)', bytes((after.snapshotBytes - before.snapshotBytes) / seconds)],
+      ['own-event bytes per second (all clients; JSON)', bytes((after.eventBytes - before.eventBytes) / seconds)]
     ]
   ))
 }

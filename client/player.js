@@ -2,7 +2,7 @@ import { ENGINE_VERSION } from '/engine/index.js'
 import { byId, el, formatAmount, shortHex } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
-import { decodeSnapshot, parseRoomId, roomIdOf, socketUrl, ROWS, RISKS } from './protocol.js'
+import { decodeSnapshot, splitRoomFrame, parseRoomId, roomIdOf, socketUrl, ROWS, RISKS } from './protocol.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { DropVerifier } from './drop-verifier.js'
@@ -79,6 +79,8 @@ function handleMessage (message) {
     case 'dropped': return onDropped(message)
     case 'settled': return onSettled(message)
     case 'error': return onError(message)
+    case 'balance': return setBalance(message.balance)
+    case 'events': return handleRoomEvents(message.events)
   }
 }
 
@@ -161,10 +163,24 @@ function onError (message) {
 }
 
 function handleSnapshot (frame, receivedAt) {
-  const snapshot = decodeSnapshot(frame)
+  const split = splitRoomFrame(frame)
+  if (!split) return
+  handleRoomEvents(split.events)
+  const snapshot = decodeSnapshot(split.snapshot)
   if (!snapshot || !state.view || !state.timeline) return
   state.view.check(snapshot)
   state.timeline.push(snapshot, receivedAt)
+}
+
+/**
+ * The other players' `dropped`/`settled` of a snapshot period (in a room
+ * frame, or an `events` message), handled as if each had come on its own.
+ * Our own are skipped: they come on their own at once, with the balance.
+ */
+function handleRoomEvents (events) {
+  for (const event of events) {
+    if (event.player !== state.playerId && (event.type === 'dropped' || event.type === 'settled')) handleMessage(event)
+  }
 }
 
 /** Simulates an announced drop and, if it is in this room, shows its ball. */

@@ -1,10 +1,11 @@
 /**
  * The browser's side of the wire format (server/rooms/snapshot-codec.js
- * documents the layout and is the reference): binary snapshot frames and
- * room ids.
+ * documents the layout and is the reference): binary snapshot and room
+ * frames, room ids and the socket URL.
  */
 
 export const SNAPSHOT_KIND = 1
+export const ROOM_FRAME_KIND = 2
 const POSITION_BITS = 11
 const POSITION_MASK = (1 << POSITION_BITS) - 1
 const POSITION_STEPS_PER_PX = 2
@@ -17,6 +18,31 @@ const HEADER_BYTES = 7
  * @property {Float32Array} xs x per present slot (px, 0.5 px steps)
  * @property {Float32Array} ys y per present slot
  */
+
+/**
+ * Splits a room frame (kind 2: the other players' events of the snapshot
+ * period, then a snapshot frame) into its events and the snapshot frame. A
+ * snapshot frame (kind 1) comes back whole with no events; anything else,
+ * or a truncated frame, gives null.
+ * @param {ArrayBuffer} buffer
+ * @returns {{ events: object[], snapshot: ArrayBuffer } | null}
+ */
+export function splitRoomFrame (buffer) {
+  if (buffer.byteLength < 1) return null
+  const view = new DataView(buffer)
+  const kind = view.getUint8(0)
+  if (kind === SNAPSHOT_KIND) return { events: [], snapshot: buffer }
+  if (kind !== ROOM_FRAME_KIND || buffer.byteLength < 5) return null
+  const length = view.getUint32(1, true)
+  if (buffer.byteLength < 5 + length) return null
+  let events
+  try {
+    events = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 5, length)))
+  } catch {
+    return null
+  }
+  return Array.isArray(events) ? { events, snapshot: buffer.slice(5 + length) } : null
+}
 
 /**
  * Decodes a snapshot frame; null for a frame of another kind or a truncated one.
@@ -72,12 +98,16 @@ export function roomIdOf (rows, risk) {
   return `${rows}-${risk}`
 }
 
-/** @param {string} id @returns {{ rows: number, risk: string } | null} */
+/** Rooms per board (server/rooms/room-id.js): `16-medium`, then `16-medium.2` … `16-medium.8`. */
+export const ROOM_INSTANCES = 8
+
+/** @param {string} id @returns {{ rows: number, risk: string, instance: number } | null} */
 export function parseRoomId (id) {
-  const match = /^(\d+)-(low|medium|high)$/.exec(id ?? '')
+  const match = /^(\d+)-(low|medium|high)(?:\.([2-9]\d*))?$/.exec(id ?? '')
   if (!match) return null
   const rows = Number(match[1])
-  return ROWS.includes(rows) ? { rows, risk: match[2] } : null
+  const instance = match[3] === undefined ? 1 : Number(match[3])
+  return ROWS.includes(rows) && instance <= ROOM_INSTANCES ? { rows, risk: match[2], instance } : null
 }
 
 /**

@@ -94,9 +94,9 @@ export class Arena {
     this.ledger.flush()
     for (const room of this.rooms.values()) {
       if (room.clients.size === 0 || !room.snapshotDue) continue
-      const frame = room.encodeSnapshot()
-      if (frame === null) continue
-      for (const client of room.clients) client.sendSnapshot(frame)
+      const { frame, events } = room.encodeFrame()
+      if (frame !== null) for (const client of room.clients) client.sendRoomFrame(frame, events)
+      else if (events !== null) this._sendEvents(room, events)
     }
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
@@ -137,6 +137,9 @@ export class Arena {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
     const room = this.rooms.getOrCreate(roomId)
     if (connection.room && connection.room !== room) this.leave(connection)
+    // Events queued so far concern balls the joiner gets in `balls`: the others get them now.
+    const queued = room.takeEvents()
+    if (queued !== null) this._sendEvents(room, queued)
     room.clients.add(connection)
     connection.room = room
     return {
@@ -246,6 +249,10 @@ export class Arena {
    * @param {{ rejected: Map<number, string>, settled: Set<number>, balances: Map<string, number> }} [outcome]
    */
   _committed ({ drops, settlements }, outcome) {
+    // Clustered: each message shows the balance right after its own change, worked back from
+    // the committed one, so a player's `dropped`/`settled` in one batch still add up one by one.
+    const running = outcome ? balancesBefore(drops, settlements, outcome) : null
+    if (outcome) this.cluster?.balances.committed(outcome.balances.keys())
     for (const drop of drops) {
       const account = drop.account
       const refused = outcome?.rejected.get(drop.id)
@@ -254,7 +261,8 @@ export class Arena {
         continue
       }
       account.reserved -= drop.bet
-      account.balance = outcome ? outcome.balances.get(account.playerId) ?? account.balance - drop.bet : account.balance - drop.bet
+      account.commits++
+      account.balance = running?.has(account.playerId) ? change(running, account.playerId, -drop.bet) : account.balance - drop.bet
       drop.announced = true
       drop.room.show(drop)
       this.metrics.drops.inc()
@@ -276,7 +284,9 @@ export class Arena {
     for (const settlement of settlements) {
       const { drop, payout } = settlement
       const account = drop.account
-      account.balance = outcome ? outcome.balances.get(account.playerId) ?? account.balance : account.balance + payout
+      account.commits++
+      if (!running) account.balance += payout
+      else if (running.has(account.playerId)) account.balance = change(running, account.playerId, outcome.settled.has(drop.id) ? payout : 0)
       this.accounts.release(account)
       this.metrics.settles.inc()
       this.metrics.payoutTotal.inc(payout)
@@ -323,22 +333,28 @@ export class Arena {
   }
 
   /**
-   * Sends a drop event to everyone in its room and to all of the owner's
-   * connections; only the owner's copy carries the balance, and only the
-   * connection that asked gets its `ref` back.
+   * Sends a drop event to all of the owner's connections at once (only the
+   * owner's copy carries the balance, and only the connection that asked
+   * gets its `ref` back) and queues it for everyone in the room, who get it
+   * with the room's next snapshot (≤ 1/SNAPSHOT_HZ later) in one frame
+   * with the other events. The owner's connections in the room get that
+   * copy too, and skip their own player's events.
    */
   _broadcast (drop, message, balance) {
     const account = drop.account
-    const everyone = JSON.stringify(message)
     const owner = JSON.stringify({ ...message, balance })
     const type = message.type
-    for (const client of drop.room.clients) {
-      if (client.account !== account) client.sendEvent(everyone, type)
-    }
+    drop.room.queueEvent(JSON.stringify(message))
     for (const client of account.connections) {
       if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
       else client.sendEvent(owner, type)
     }
+  }
+
+  /** A room's queued events on their own, as `{type:"events"}`: no snapshot goes with them. */
+  _sendEvents (room, events) {
+    const text = `{"type":"events","room":${JSON.stringify(room.id)},"events":${events}}`
+    for (const client of room.clients) client.sendEvent(text, 'events')
   }
 
   _sendToOwner (drop, code, message) {
@@ -370,4 +386,28 @@ export class Arena {
     await this.ledger.drain()
     for (const connection of [...this.connections]) connection.close(1001, 'server shutting down')
   }
+}
+
+/**
+ * Each player's balance before a committed shared-ledger batch: the
+ * committed balance less what the batch itself changed (accepted bets,
+ * credited payouts).
+ * @returns {Map<string, number>}
+ */
+function balancesBefore (drops, settlements, outcome) {
+  const before = new Map(outcome.balances)
+  for (const drop of drops) {
+    if (!outcome.rejected.has(drop.id) && before.has(drop.playerId)) before.set(drop.playerId, before.get(drop.playerId) + drop.bet)
+  }
+  for (const { drop, payout } of settlements) {
+    if (outcome.settled.has(drop.id) && before.has(drop.playerId)) before.set(drop.playerId, before.get(drop.playerId) - payout)
+  }
+  return before
+}
+
+/** Applies `amount` to a player's running balance; returns the new balance. */
+function change (running, playerId, amount) {
+  const balance = running.get(playerId) + amount
+  running.set(playerId, balance)
+  return balance
 }

@@ -30,5 +30,7 @@ export const metrics = {
   /** Drops sent and accepted whose `settled` never came before the player left. */
   unsettledDrops: new Counter('unsettled_drops'),
   /** An own `dropped`/`settled` whose balance is not the previous balance − bet (+ payout). */
-  balanceMismatches: new Counter('balance_mismatches')
+  balanceMismatches: new Counter('balance_mismatches'),
+  /** Clustered: joins answered E_WRONG_NODE and followed to the owner (not errors). */
+  redirects: new Counter('plinko_redirects')
 }

@@ -8,7 +8,9 @@
  *   from `welcome.balance`, and payout = ⌊bet × multiplier⌋;
  * - every accepted drop gets its `settled` before the player leaves
  *   (`unsettled_drops` counts the ones that do not);
- * - every error frame, unexpected close or failed request is counted by code.
+ * - every error frame, unexpected close or failed request is counted by code;
+ * - clustered, a join answered E_WRONG_NODE is followed: the player
+ *   reconnects to the `owner` process (loopback only) and joins there.
  *
  * Arrival times come from `event.timestamp` (when k6's reader goroutine got
  * the frame), so time a frame waits for k6's JavaScript event loop is not
@@ -23,15 +25,19 @@ import exec from 'k6/execution'
 import { WebSocket } from 'k6/websockets'
 import { setTimeout, clearTimeout, setInterval, clearInterval } from 'k6/timers'
 import { metrics } from './player-metrics.js'
+import { ownerSocketUrl } from './scenario-config.js'
 
 const TICK_MS = 1000 / 60
 const JOIN_TIMEOUT_MS = 30_000
 const DRAIN_POLL_MS = 200
 const LOGGED_ERRORS_PER_VU = 3
+/** E_WRONG_NODE answers followed before joining; one more is an error (two processes disagreeing). */
+const MAX_REDIRECTS = 3
 
 /**
  * The rooms the players are spread over: the first `count` ids the server
- * lists (GET /api/rooms, in setup()). The server has one room per board; if
+ * lists (GET /api/rooms, in setup()): one room per board first, then each
+ * board's second room, and so on (216 in all); if
  * it offers fewer than `count`, the players share the ones there are (and
  * the report says so: setup data holds the list).
  * @param {string} baseUrl @param {number} count
@@ -77,7 +83,7 @@ function logOnce (text) {
  * properties up in a map on every access, and the message handler runs for
  * every frame the server sends (tens of thousands per second).
  */
-function connect (config, room, token, leaveAt) {
+function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects = 0) {
   const every = config.jitterSampleEvery
   const interval = config.dropIntervalMs
   const bet = config.bet
@@ -103,7 +109,7 @@ function connect (config, room, token, leaveAt) {
   let sampleTick = -1
   let sampleAt = 0
 
-  const ws = new WebSocket(`${config.wsUrl}?token=${token}`, null, { tags: { name: '/ws' } })
+  const ws = new WebSocket(`${wsUrl}?token=${token}`, null, { tags: { name: '/ws' } })
   ws.binaryType = 'arraybuffer'
   ws.onopen = () => { openedAt = Date.now() }
   ws.onerror = (event) => {
@@ -222,10 +228,21 @@ function connect (config, room, token, leaveAt) {
   }
 
   function error (message) {
+    if (message.code === 'E_WRONG_NODE' && !joinedAt && redirects < MAX_REDIRECTS && ownerSocketUrl(message.owner) !== null) return moveTo(ownerSocketUrl(message.owner))
     metrics.errors.add(1, { code: message.code })
     logOnce(`error ${message.code}: ${message.message}`)
     // A refused drop is never debited or announced.
     if (message.ref !== undefined) pending.delete(message.ref)
+  }
+
+  /** Leaves this socket quietly (nothing was dropped on it yet) and plays on from the room's owner. */
+  function moveTo (ownerUrl) {
+    finished = true
+    closedByUs = true
+    clearTimeout(joinTimer)
+    metrics.redirects.add(1)
+    ws.close(1000)
+    connect(config, room, token, leaveAt, ownerUrl, redirects + 1)
   }
 
   /** Called on frame `every`·k (remember it) and the one after (time the pair): uint32 LE tick at offset 1. */

@@ -29,6 +29,21 @@ const CLIENT_ERROR_CODES = ['X_BALANCE_MISMATCH', 'X_BAD_PAYOUT', 'X_UNKNOWN_DRO
   'HTTP_0', 'HTTP_429', 'HTTP_500', 'HTTP_503']
 
 const LOOPBACK = /^(https?):\/\/(localhost|127\.0\.0\.1|\[::1\])(:\d{1,5})?\/?$/
+/** An E_WRONG_NODE `owner`: a loopback URL, possibly with a path (a process behind a proxy, /n/1). */
+const LOOPBACK_OWNER = /^(https?):\/\/(localhost|127\.0\.0\.1|\[::1\])(:\d{1,5})?(\/[A-Za-z0-9._~\/-]*)?$/
+
+/**
+ * The socket URL of an E_WRONG_NODE `owner`, or null when it is not on
+ * loopback: the scripts never send traffic anywhere else.
+ * @param {unknown} owner
+ * @returns {string | null}
+ */
+export function ownerSocketUrl (owner) {
+  const match = typeof owner === 'string' ? LOOPBACK_OWNER.exec(owner) : null
+  if (!match) return null
+  const path = (match[4] ?? '').replace(/\/+$/, '')
+  return `${match[1] === 'https' ? 'wss' : 'ws'}://${match[2]}${match[3] ?? ''}${path}/ws`
+}
 
 /**
  * @param {string | undefined} value `90`, `90s`, `1500ms`, `10m`, `1h`

@@ -5,6 +5,7 @@ import { parseRoomId } from '../rooms/room-id.js'
 import { gameError } from '../errors.js'
 import { settleInterruptedDrops } from '../ledger/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'
+import { BalanceSync } from './balance-sync.js'
 
 /**
  * This process as a member of a cluster: it owns rooms through leases in
@@ -44,6 +45,8 @@ export class ClusterNode {
       ttlMs: this.ttlMs,
       localSummaries: () => [...arena.rooms.values()].map((room) => room.summary())
     })
+    /** Other processes' balance changes reach the accounts held here. */
+    this.balances = new BalanceSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store, log })
     /** Rooms whose lease we hold. */
     this.owned = new Set()
     /** Per room: the tail of its claim/release chain (they never overlap). */
@@ -58,6 +61,7 @@ export class ClusterNode {
   /** Connects to Redis, advertises this process, settles orphaned drops and starts the timers. */
   async start () {
     await this.redis.connect()
+    await this.balances.start()
     await this.directory.publish([])
     await this.sweep()
     const every = (ms, job) => {
@@ -197,9 +201,11 @@ export class ClusterNode {
       for (const roomId of [...this.owned]) await this.directory.release(roomId)
       this.owned.clear()
       await this.redis.del(KEYS.node(this.nodeId))
+      await this.balances.close()
       await this.redis.quit()
     } catch (error) {
       this.log.warn({ err: error }, 'leaving the cluster failed; leases expire after their TTL')
+      this.balances.subscriber?.disconnect()
       this.redis.disconnect()
     }
   }

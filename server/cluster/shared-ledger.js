@@ -168,6 +168,12 @@ export class SharedLedgerStore extends PostgresStore {
     return rows.map(toDropRecord)
   }
 
+  /** A player's committed balance, or null if there is no such player. @param {string} playerId */
+  async readBalance (playerId) {
+    const { rows } = await this.pool.query('SELECT balance FROM players WHERE id = $1', [playerId])
+    return rows.length === 0 ? null : Number(rows[0].balance)
+  }
+
   // ---- the batch ------------------------------------------------------------
 
   /**

@@ -22,6 +22,8 @@ export class Account {
     /** The active server seed; `nextNonce` is taken (and never given back) when a drop is accepted. */
     this.seed = state.seed
     this.dropLimiter = new TokenBucket({ rate: limits.dropRate, burst: limits.dropBurst })
+    /** Batches for this player committed by this process: a balance re-read from another process's notice is stale if this moved meanwhile. */
+    this.commits = 0
     this.joinLimiter = new TokenBucket({ rate: limits.joinRate, burst: 2 * limits.joinRate })
     /** @type {Set<import('../realtime/connection.js').Connection>} */
     this.connections = new Set()

@@ -165,6 +165,22 @@ export class Connection {
     this.metrics.bytesOut.inc(Buffer.byteLength(text))
   }
 
+  /**
+   * The room's frame for this snapshot period. The snapshot in it may be
+   * skipped (the next one supersedes it), its events may not: over the soft
+   * limit, the events alone are sent, as `{type:"events"}`.
+   * @param {Buffer} frame @param {string | null} events the frame's events as a JSON array, or null
+   */
+  sendRoomFrame (frame, events) {
+    if (this.closed) return
+    if (events !== null && this.socket.bufferedAmount > this.softLimit && this.socket.bufferedAmount <= this.hardLimit) {
+      this.metrics.snapshotsSkipped.inc()
+      this.sendEvent(`{"type":"events","room":${JSON.stringify(this.room?.id ?? null)},"events":${events}}`, 'events')
+      return
+    }
+    this.sendSnapshot(frame)
+  }
+
   /** A snapshot may be skipped: the next one supersedes it. @param {Buffer} frame */
   sendSnapshot (frame) {
     if (this.closed) return

@@ -1,40 +1,48 @@
 import { createBoard, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/index.js'
 
+/** Rooms per board: `16-medium` is the first, `16-medium.2` … `16-medium.8` the others, so the players of one board can spread over several rooms. */
+export const ROOM_INSTANCES = 8
+
 /**
- * Room ids name the board: `${rows}-${risk}`, e.g. "16-medium". There is one
- * room per board, so at most (MAX_ROWS - MIN_ROWS + 1) × RISKS.length rooms.
+ * Room ids name the board and the instance: `${rows}-${risk}` for the first
+ * room of a board (e.g. "16-medium"), `${rows}-${risk}.${n}` for the others
+ * (n = 2..ROOM_INSTANCES). Listed instance by instance, so the first 27 are
+ * one room per board, the next 27 the second of each, and so on.
  */
 export const ROOM_IDS = Object.freeze(
-  Array.from({ length: MAX_ROWS - MIN_ROWS + 1 }, (_, i) => RISKS.map((risk) => `${MIN_ROWS + i}-${risk}`)).flat()
+  Array.from({ length: ROOM_INSTANCES }, (_, instance) =>
+    Array.from({ length: MAX_ROWS - MIN_ROWS + 1 }, (_, i) => RISKS.map((risk) => roomIdOf(MIN_ROWS + i, risk, instance + 1))).flat()
+  ).flat()
 )
 const KNOWN = new Set(ROOM_IDS)
 const boards = new Map()
 
 /**
  * @param {unknown} id
- * @returns {{ rows: number, risk: string } | null} null if `id` names no room
+ * @returns {{ rows: number, risk: string, instance: number } | null} null if `id` names no room
  */
 export function parseRoomId (id) {
   if (typeof id !== 'string' || !KNOWN.has(id)) return null
   const dash = id.indexOf('-')
-  return { rows: Number(id.slice(0, dash)), risk: id.slice(dash + 1) }
+  const dot = id.indexOf('.')
+  return { rows: Number(id.slice(0, dash)), risk: id.slice(dash + 1, dot < 0 ? undefined : dot), instance: dot < 0 ? 1 : Number(id.slice(dot + 1)) }
 }
 
-/** @param {number} rows @param {string} risk */
-export function roomIdOf (rows, risk) {
-  return `${rows}-${risk}`
+/** @param {number} rows @param {string} risk @param {number} [instance] 1 (the default) .. ROOM_INSTANCES */
+export function roomIdOf (rows, risk, instance = 1) {
+  return instance === 1 ? `${rows}-${risk}` : `${rows}-${risk}.${instance}`
 }
 
 /**
- * The (frozen, shared) board of a room id; boards are built once per process.
+ * The (frozen, shared) board of a room id; boards are built once per process
+ * and shared by a board's instances (and so are its pegs: DropSimulator).
  * @param {string} id a valid room id
  */
 export function boardOf (id) {
-  let board = boards.get(id)
-  if (!board) {
-    const parsed = parseRoomId(id)
-    if (!parsed) throw new RangeError(`no room ${id}`)
-    boards.set(id, (board = createBoard(parsed)))
-  }
+  const parsed = parseRoomId(id)
+  if (!parsed) throw new RangeError(`no room ${id}`)
+  const key = roomIdOf(parsed.rows, parsed.risk)
+  let board = boards.get(key)
+  if (!board) boards.set(key, (board = createBoard({ rows: parsed.rows, risk: parsed.risk })))
   return board
 }

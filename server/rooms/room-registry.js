@@ -1,5 +1,5 @@
 import { Room } from './room.js'
-import { parseRoomId, boardOf } from './room-id.js'
+import { parseRoomId, boardOf, ROOM_INSTANCES } from './room-id.js'
 import { gameError } from '../errors.js'
 
 /**
@@ -34,7 +34,7 @@ export class RoomRegistry {
   getOrCreate (id) {
     const existing = this.rooms.get(/** @type {string} */ (id))
     if (existing) return existing
-    if (!parseRoomId(id)) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}; room ids are ROWS-RISK, e.g. 16-medium`)
+    if (!parseRoomId(id)) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}; room ids are ROWS-RISK or ROWS-RISK.N (N = 2..${ROOM_INSTANCES}), e.g. 16-medium or 16-medium.2`)
     const room = new Room({
       id: /** @type {string} */ (id),
       board: boardOf(/** @type {string} */ (id)),

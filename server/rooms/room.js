@@ -1,5 +1,5 @@
 import { DropSimulator } from '../../engine/index.js'
-import { encodeSnapshot } from './snapshot-codec.js'
+import { encodeSnapshot, encodeRoomFrame } from './snapshot-codec.js'
 
 /**
  * One board, its simulator and the connections watching it. Lifecycle:
@@ -37,6 +37,21 @@ export class Room {
     this.visibleCount = 0
     this._lastSnapshotHadBalls = false
     this._discarded = 0
+    /** `dropped`/`settled` (JSON text) for the room's clients, sent with the next snapshot. */
+    this.pendingEvents = []
+  }
+
+  /** Queues an event for everyone in the room; it goes out with the next snapshot (or before a join). @param {string} text */
+  queueEvent (text) {
+    if (this.clients.size > 0) this.pendingEvents.push(text)
+  }
+
+  /** The queued events as one JSON array text, or null if none; clears the queue. */
+  takeEvents () {
+    if (this.pendingEvents.length === 0) return null
+    const json = `[${this.pendingEvents.join(',')}]`
+    this.pendingEvents.length = 0
+    return json
   }
 
   /** Balls of live drops in flight (discarded ones excluded). */
@@ -99,6 +114,20 @@ export class Room {
 
   get snapshotDue () {
     return (this.tick + this.snapshotPhase) % this.snapshotEvery === 0
+  }
+
+  /**
+   * What the room's clients get this snapshot period: `frame` (binary: the
+   * queued events, if any, and the snapshot) and `events` (the queued events
+   * as JSON text, or null), which a client that must skip the snapshot still
+   * gets. Both null when there is nothing to say.
+   * @returns {{ frame: Buffer | null, events: string | null }}
+   */
+  encodeFrame () {
+    const events = this.takeEvents()
+    const snapshot = this.encodeSnapshot()
+    if (snapshot === null) return { frame: null, events }
+    return { frame: events === null ? snapshot : encodeRoomFrame(events, snapshot), events }
   }
 
   /**

@@ -19,6 +19,8 @@
  * drop from its seed.
  */
 export const SNAPSHOT_KIND = 1
+/** A room frame: the room's events since the last frame, then its snapshot (see encodeRoomFrame). */
+export const ROOM_FRAME_KIND = 2
 export const POSITION_BITS = 11
 export const POSITION_STEPS_PER_PX = 2
 export const MAX_POSITION = (1 << POSITION_BITS) - 1
@@ -102,4 +104,44 @@ export function decodeSnapshot (bytes) {
     balls.push({ slot, x, y })
   }
   return { tick, balls }
+}
+
+/**
+ * The room frame: the other players' `dropped`/`settled` events of the last
+ * snapshot period and the snapshot, in one binary frame, built once per room
+ * and sent as the same Buffer to all its clients (a spectator gets one frame
+ * per snapshot instead of one per event). Little-endian:
+ *
+ *   offset  size   field
+ *   0       1      kind = 2 (ROOM_FRAME_KIND)
+ *   1       4      L, uint32: byte length of the events
+ *   5       L      the events: a JSON array of `dropped`/`settled` messages (UTF-8), oldest first
+ *   5 + L   …      a snapshot frame (kind 1, above), whose balls those events named first
+ *
+ * @param {string} eventsJson a JSON array
+ * @param {Buffer} snapshot a kind-1 frame
+ * @returns {Buffer}
+ */
+export function encodeRoomFrame (eventsJson, snapshot) {
+  const length = Buffer.byteLength(eventsJson)
+  const buffer = Buffer.allocUnsafe(5 + length + snapshot.length)
+  buffer[0] = ROOM_FRAME_KIND
+  buffer.writeUInt32LE(length, 1)
+  buffer.write(eventsJson, 5, length, 'utf8')
+  snapshot.copy(buffer, 5 + length)
+  return buffer
+}
+
+/**
+ * Splits a room frame (kind 2) into its events and snapshot frame; a kind-1
+ * frame comes back with no events.
+ * @param {Uint8Array} bytes
+ * @returns {{ events: object[], snapshot: Uint8Array }}
+ */
+export function splitRoomFrame (bytes) {
+  if (bytes[0] !== ROOM_FRAME_KIND) return { events: [], snapshot: bytes }
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
+  const length = view.getUint32(1, true)
+  const events = JSON.parse(new TextDecoder().decode(bytes.subarray(5, 5 + length)))
+  return { events, snapshot: bytes.subarray(5 + length) }
 }

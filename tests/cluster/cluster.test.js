@@ -76,7 +76,7 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     expect(fromA.owner).toBe(b.url)
   })
 
-  it('never spends one balance twice across processes, and never reuses a nonce', async () => {
+  it('never spends one balance twice across processes, keeps both processes\' view of it current, and never reuses a nonce', async () => {
     const { databaseUrl, nodes: [a, b] } = await cluster(2, { STARTING_BALANCE: '100' })
     const carol = await a.session()
     const onA = await connect(a, carol.token)
@@ -101,6 +101,9 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     expect(settled.balance).toBe(100 - 100 + settled.payout)
     const rows = await query(databaseUrl, 'SELECT balance FROM players WHERE id = $1', [carol.playerId])
     expect(Number(rows[0].balance)).toBe(settled.payout)
+    // The other process hears of it (Redis) and shows the committed balance on its connection too.
+    const other = owner === onA ? onB : onA
+    expect(await other.take((m) => m.type === 'balance' && m.balance === settled.payout)).toMatchObject({ balance: settled.payout })
 
     // Nonces across processes: both play small bets; every (seed, nonce) is distinct (UNIQUE holds) and all drops commit.
     const dave = await b.session()

@@ -6,8 +6,9 @@
  * connects to, before and after an E_WRONG_NODE redirect.
  */
 import { describe, it, expect } from 'vitest'
-import { encodeSnapshot, decodeSnapshot as serverDecode } from '../../server/rooms/snapshot-codec.js'
-import { decodeSnapshot, socketUrl } from '../../client/protocol.js'
+import { encodeSnapshot, encodeRoomFrame, splitRoomFrame as serverSplit, decodeSnapshot as serverDecode } from '../../server/rooms/snapshot-codec.js'
+import { decodeSnapshot, splitRoomFrame, socketUrl, parseRoomId as clientParseRoomId } from '../../client/protocol.js'
+import { ROOM_IDS, parseRoomId as serverParseRoomId } from '../../server/rooms/room-id.js'
 import { SnapshotTimeline } from '../../client/snapshot-timeline.js'
 
 function lcg (seed) {
@@ -121,5 +122,41 @@ describe('client socket URL', () => {
 
   it('refuses anything but an absolute http(s) URL', () => {
     for (const bad of ['javascript:alert(1)', 'ftp://h/', '/n/1', '', 'not a url']) expect(socketUrl(bad, 't')).toBeNull()
+  })
+})
+
+describe('client room frames', () => {
+  const toArrayBuffer = (buffer) => buffer.buffer.slice(buffer.byteOffset, buffer.byteOffset + buffer.byteLength)
+
+  it('splits what the server encodes into its events (UTF-8 JSON) and its snapshot', () => {
+    const snapshot = Buffer.from(frame(42, [{ slot: 0, x: 10, y: 20 }, { slot: 3, x: 300.5, y: 512 }]))
+    const events = [{ type: 'dropped', dropId: 7, player: 'p-ü', clientSeed: 'naïve ✓' }, { type: 'settled', dropId: 5, payout: 12 }]
+    const encoded = encodeRoomFrame(JSON.stringify(events), snapshot)
+    const split = splitRoomFrame(toArrayBuffer(encoded))
+    expect(split.events).toEqual(events)
+    expect(decodeSnapshot(split.snapshot)).toEqual(decodeSnapshot(toArrayBuffer(snapshot)))
+    expect(serverSplit(encoded).events).toEqual(events)
+    expect(serverDecode(serverSplit(encoded).snapshot).balls.map((b) => b.slot)).toEqual([0, 3])
+    // A plain snapshot frame passes through with no events.
+    expect(splitRoomFrame(toArrayBuffer(snapshot))).toEqual({ events: [], snapshot: toArrayBuffer(snapshot) })
+  })
+
+  it('refuses truncated or foreign frames', () => {
+    const encoded = toArrayBuffer(encodeRoomFrame('[{"type":"dropped"}]', Buffer.from(frame(1, []))))
+    expect(splitRoomFrame(encoded.slice(0, 10))).toBeNull()
+    expect(splitRoomFrame(new Uint8Array([9, 0, 0]).buffer)).toBeNull()
+    expect(splitRoomFrame(new ArrayBuffer(0))).toBeNull()
+    const notJson = Buffer.concat([Buffer.from([2, 3, 0, 0, 0]), Buffer.from('{x]'), Buffer.from(frame(1, []))])
+    expect(splitRoomFrame(toArrayBuffer(notJson))).toBeNull()
+  })
+})
+
+describe('client room ids', () => {
+  it('reads every room id the server knows as the server does, and no other', () => {
+    for (const id of ROOM_IDS) expect(clientParseRoomId(id), id).toEqual(serverParseRoomId(id))
+    for (const id of ['16-medium.1', '16-medium.9', '16-medium.02', '7-low', '17-high.2', '16-extreme', '']) {
+      expect(clientParseRoomId(id), id).toBeNull()
+      expect(serverParseRoomId(id), id).toBeNull()
+    }
   })
 })

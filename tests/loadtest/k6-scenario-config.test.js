@@ -2,7 +2,7 @@ import { describe, it, expect, beforeEach } from 'vitest'
 
 // The k6 scenario settings module only reads the global __ENV (k6's); give it one.
 globalThis.__ENV = {}
-const { loopbackBaseUrl, parseSeconds, readScenarioConfig, playerScenarioOptions } = await import('../../loadtest/k6-lib/scenario-config.js')
+const { loopbackBaseUrl, ownerSocketUrl, parseSeconds, readScenarioConfig, playerScenarioOptions } = await import('../../loadtest/k6-lib/scenario-config.js')
 
 describe('k6 scenario settings', () => {
   beforeEach(() => { globalThis.__ENV = {} })
@@ -12,6 +12,15 @@ describe('k6 scenario settings', () => {
     expect(loopbackBaseUrl('http://localhost:1234')).toBe('http://localhost:1234')
     for (const url of ['http://example.com', 'http://192.168.1.2:8080', 'http://127.0.0.1.evil.com', 'http://localhost.evil.com:80', 'http://localhost:8080/path']) {
       expect(() => loopbackBaseUrl(url), url).toThrow(/not on this machine/)
+    }
+  })
+
+  it('follows an E_WRONG_NODE owner only on loopback, to its /ws', () => {
+    expect(ownerSocketUrl('http://127.0.0.1:8080/n/1')).toBe('ws://127.0.0.1:8080/n/1/ws')
+    expect(ownerSocketUrl('http://localhost:9000')).toBe('ws://localhost:9000/ws')
+    expect(ownerSocketUrl('https://[::1]:8443/n/server2/')).toBe('wss://[::1]:8443/n/server2/ws')
+    for (const owner of ['http://10.0.0.5:8080/n/1', 'http://127.0.0.1.evil.com/n/1', 'http://localhost:8080/n/1?x=1', 'ws://127.0.0.1/', null, 42]) {
+      expect(ownerSocketUrl(owner), String(owner)).toBeNull()
     }
   })
 

@@ -144,12 +144,35 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
     await Promise.all([first.client.close(), late.client.close()])
   })
 
+  it('runs a board\'s instance rooms (ROWS-RISK.N) apart, on the same board', async () => {
+    const first = await server.player('11-high')
+    const second = await server.player('11-high.2')
+    expect(second.client.joined.room).toBe('11-high.2')
+    expect(second.client.joined.board).toEqual(first.client.joined.board)
+    first.client.send({ type: 'drop', bet: 3, ref: 'one' })
+    second.client.send({ type: 'drop', bet: 4, ref: 'two' })
+    const dropped = await second.client.take((m) => m.ref === 'two')
+    expect(dropped.room).toBe('11-high.2')
+    const settled = await second.client.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
+    expect(settled.bucket).toBe(simulateDrop(createBoard({ rows: 11, risk: 'high' }), dropped.dropSeed).bucket)
+    await first.client.take((m) => m.type === 'settled' && m.player === first.session.playerId)
+    // Each room saw only its own ball.
+    expect(second.client.messages.filter((m) => m.type === 'dropped').map((m) => m.player)).toEqual([second.session.playerId])
+    expect(first.client.messages.filter((m) => m.type === 'dropped').map((m) => m.player)).toEqual([first.session.playerId])
+    for (const bad of ['11-high.1', '11-high.9', '11-high.02', '11-high.']) {
+      expect((await second.client.expectError({ type: 'join', room: bad })).code).toBe('E_UNKNOWN_ROOM')
+    }
+    await Promise.all([first.client.close(), second.client.close()])
+  })
+
   it('lists rooms while in use and disposes them when empty and no ball is in flight', async () => {
     const room = '9-low'
     const { client } = await server.player(room)
     const listed = await server.api('GET', '/api/rooms')
     expect(listed.status).toBe(200)
-    expect(listed.body.roomIds).toHaveLength(27)
+    expect(listed.body.roomIds).toHaveLength(27 * 8)
+    expect(listed.body.roomIds.slice(0, 3)).toEqual(['8-low', '8-medium', '8-high'])
+    expect(listed.body.roomIds[27]).toBe('8-low.2')
     expect(listed.body.rooms.find((r) => r.id === room)).toMatchObject({ rows: 9, risk: 'low', players: 1, ballsInFlight: 0 })
     client.send({ type: 'drop', bet: 1 })
     await client.take('dropped')

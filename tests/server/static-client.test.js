@@ -30,7 +30,7 @@ describe('static client', () => {
       expect((await app.inject({ method: 'GET', url: '/audit' })).body).toContain('<title>Audit</title>')
       expect((await app.inject({ method: 'GET', url: '/app.js' })).statusCode).toBe(200)
       // The API still wins over the static wildcard, and unknown paths are E_NOT_FOUND.
-      expect((await app.inject({ method: 'GET', url: '/api/rooms' })).json().roomIds).toHaveLength(27)
+      expect((await app.inject({ method: 'GET', url: '/api/rooms' })).json().roomIds).toHaveLength(216)
       const missing = await app.inject({ method: 'GET', url: '/nope.html' })
       expect(missing.statusCode).toBe(404)
       expect(missing.json().code).toBe('E_NOT_FOUND')

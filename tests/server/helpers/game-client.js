@@ -1,9 +1,10 @@
 import WebSocket from 'ws'
-import { decodeSnapshot } from '../../../server/rooms/snapshot-codec.js'
+import { decodeSnapshot, splitRoomFrame } from '../../../server/rooms/snapshot-codec.js'
 
 /**
  * A test player on a real WebSocket. Every JSON message and decoded
- * snapshot is kept in arrival order; take() waits for the first message
+ * snapshot is kept in arrival order (the other players' events that come
+ * batched, in a room frame or an `events` message, are unpacked in place); take() waits for the first message
  * not yet taken that matches, so tests read the protocol like a script.
  */
 export class GameClient {
@@ -27,8 +28,16 @@ export class GameClient {
       })
     })
     this.socket.on('message', (data, isBinary) => {
-      if (isBinary) this.snapshots.push({ ...decodeSnapshot(data), bytes: data.length })
-      else this.messages.push(JSON.parse(data.toString()))
+      if (isBinary) {
+        // A room frame's events read as if each had come on its own, before the snapshot.
+        const { events, snapshot } = splitRoomFrame(data)
+        this._roomEvents(events)
+        this.snapshots.push({ ...decodeSnapshot(snapshot), bytes: data.length })
+      } else {
+        const message = JSON.parse(data.toString())
+        if (message.type === 'events') this._roomEvents(message.events)
+        else this.messages.push(message)
+      }
       this._notify()
     })
   }
@@ -73,6 +82,11 @@ export class GameClient {
     const ref = `sync-${Math.random()}`
     this.send({ type: 'ping', ref })
     await this.take((m) => m.type === 'pong' && m.ref === ref)
+  }
+
+  /** The room's events, less this player's own (those come on their own, with the balance). */
+  _roomEvents (events) {
+    for (const event of events) if (event.player !== this.welcome?.playerId) this.messages.push(event)
   }
 
   _notify () {

@@ -1,0 +1,101 @@
+#!/usr/bin/env node
+/**
+ * `npm run loadtest:cluster-smoke [-- --vus 40 --duration 15s --workers 2]`
+ *
+ * The k6 players against the clustered topology: a throwaway PostgreSQL
+ * (initdb/pg_ctl on PATH) and Redis, `npm run cluster -- --workers N` on a
+ * free port, and `npm run loadtest` aimed at its proxy (TARGET_URL). The
+ * proxy hands WebSockets to the processes round robin, so about half the
+ * joins reach a process that does not run the room: the players must follow
+ * E_WRONG_NODE to the owner (any error fails k6's thresholds). Afterwards
+ * the shared ledger is checked: every drop settled, every balance equal to
+ * start − bets + payouts. Exits non-zero on any failure. Loopback only;
+ * bounded by the scenario's own duration.
+ */
+import { spawn } from 'node:child_process'
+import path from 'node:path'
+import { parseArgs } from 'node:util'
+import { fileURLToPath } from 'node:url'
+import pg from 'pg'
+import { startPostgres } from '../tests/server/helpers/postgres.js'
+import { freePort } from '../tests/cluster/helpers/cluster.js'
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
+const STARTING_BALANCE = 100000
+const { values } = parseArgs({
+  options: {
+    vus: { type: 'string', default: '40' },
+    duration: { type: 'string', default: '15s' },
+    workers: { type: 'string', default: '2' },
+    rooms: { type: 'string', default: '6' }
+  }
+})
+
+const postgres = await startPostgres()
+let cluster = null
+let exitCode = 1
+try {
+  const databaseUrl = await postgres.createDatabase()
+  const port = await freePort()
+  const base = `http://127.0.0.1:${port}`
+  cluster = spawn(process.execPath, [path.join(ROOT, 'scripts/cluster.js'), '--workers', values.workers, '--port', String(port)], {
+    cwd: ROOT,
+    stdio: ['ignore', 'inherit', 'inherit'],
+    env: {
+      ...process.env,
+      DATABASE_URL: databaseUrl,
+      LOG_LEVEL: 'warn',
+      STARTING_BALANCE: String(STARTING_BALANCE),
+      // Every virtual player comes from 127.0.0.1.
+      HTTP_RATE_LIMIT: '1000000000',
+      SESSION_RATE_LIMIT: '1000000000',
+      WS_MAX_CONNECTIONS_PER_IP: '1000000',
+      DROP_RATE_PER_IP: '1000000',
+      JOIN_RATE_PER_IP: '1000000'
+    }
+  })
+  await waitForWorkers(base, Number(values.workers))
+  const k6 = spawn(process.execPath, [path.join(ROOT, 'loadtest/run.js'), '--scenario', 'players', '--vus', values.vus, '--duration', values.duration,
+    '--rooms', values.rooms, '--ramp', '5s', '--env', 'BREAKDOWN=1'], { cwd: ROOT, stdio: 'inherit', env: { ...process.env, TARGET_URL: base } })
+  const k6Code = await new Promise((resolve) => k6.once('exit', (code) => resolve(code ?? 1)))
+  const ledger = await checkLedger(databaseUrl)
+  console.log(`cluster smoke: ${ledger.drops} drops in the shared ledger, ${ledger.unsettled} unsettled, ${ledger.mismatches} balance mismatches; k6 exit ${k6Code}`)
+  exitCode = k6Code === 0 && ledger.drops > 0 && ledger.unsettled === 0 && ledger.mismatches === 0 ? 0 : 1
+} catch (error) {
+  console.error(`cluster smoke: ${error.stack ?? error.message}`)
+} finally {
+  if (cluster && cluster.exitCode === null) {
+    const exited = new Promise((resolve) => cluster.once('exit', resolve))
+    cluster.kill('SIGTERM')
+    await exited
+  }
+  await postgres.stop()
+}
+process.exit(exitCode)
+
+/** Every worker answers through the proxy's /n/{i} path. */
+async function waitForWorkers (base, count) {
+  const deadline = Date.now() + 60_000
+  for (let i = 0; i < count; i++) {
+    for (;;) {
+      try {
+        if ((await fetch(`${base}/n/${i}/api/health`)).ok) break
+      } catch {}
+      if (Date.now() > deadline) throw new Error(`worker ${i} did not start`)
+      await new Promise((resolve) => setTimeout(resolve, 100))
+    }
+  }
+}
+
+async function checkLedger (url) {
+  const client = new pg.Client({ connectionString: url })
+  await client.connect()
+  try {
+    const { rows: [counts] } = await client.query("SELECT count(*) AS drops, count(*) FILTER (WHERE status <> 'settled') AS unsettled FROM drops")
+    const { rows: mismatches } = await client.query(`SELECT p.id FROM players p LEFT JOIN drops d ON d.player_id = p.id
+      GROUP BY p.id, p.balance HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [STARTING_BALANCE])
+    return { drops: Number(counts.drops), unsettled: Number(counts.unsettled), mismatches: mismatches.length }
+  } finally {
+    await client.end()
+  }
+}

@@ -1,0 +1,86 @@
+/** Redis channel on which processes announce the players whose balance they just committed. */
+export const BALANCE_CHANNEL = 'plinko:balances'
+
+/**
+ * Keeps the balances this process holds in memory current when another
+ * process changes them (one player connected to two processes). After each
+ * committed batch a process publishes the ids of the players it changed;
+ * the others re-read those players' committed balance from PostgreSQL —
+ * only for accounts they hold — and tell the player's connections with a
+ * `balance` message. A re-read is dropped if one of this process's own
+ * batches for that player committed meanwhile (that balance is newer).
+ * Balances are never decided here: PostgreSQL's conditional debits do that.
+ */
+export class BalanceSync {
+  /**
+   * @param {object} options
+   * @param {import('ioredis').Redis} options.redis the process's connection (publishing); a duplicate subscribes
+   * @param {string} options.nodeId
+   * @param {import('../ledger/accounts.js').AccountBook} options.accounts
+   * @param {{ readBalance: (playerId: string) => Promise<number | null> }} options.store
+   * @param {import('pino').Logger} options.log
+   */
+  constructor ({ redis, nodeId, accounts, store, log }) {
+    this.redis = redis
+    this.nodeId = nodeId
+    this.accounts = accounts
+    this.store = store
+    this.log = log
+    this.subscriber = null
+    /** players being re-read → whether another notice came meanwhile */
+    this._refreshing = new Map()
+    this.stats = { received: 0, refreshed: 0 }
+  }
+
+  async start () {
+    this.subscriber = this.redis.duplicate()
+    this.subscriber.on('error', (error) => this.log.warn({ err: error }, 'redis (balance notices) error'))
+    this.subscriber.on('message', (channel, text) => { if (channel === BALANCE_CHANNEL) this._received(text) })
+    await this.subscriber.subscribe(BALANCE_CHANNEL)
+  }
+
+  /** After a committed batch: tell the other processes whose balances changed. @param {Iterable<string>} playerIds */
+  committed (playerIds) {
+    const players = [...playerIds]
+    if (players.length === 0) return
+    this.redis.publish(BALANCE_CHANNEL, JSON.stringify({ node: this.nodeId, players }))
+      .catch((error) => this.log.warn({ err: error }, 'could not publish balance changes'))
+  }
+
+  _received (text) {
+    let notice
+    try {
+      notice = JSON.parse(text)
+    } catch {
+      return
+    }
+    if (notice?.node === this.nodeId || !Array.isArray(notice.players)) return
+    this.stats.received++
+    for (const playerId of notice.players) {
+      const account = typeof playerId === 'string' ? this.accounts.accounts.get(playerId) : undefined
+      if (account) this._refresh(account)
+    }
+  }
+
+  /** @param {import('../ledger/accounts.js').Account} account */
+  _refresh (account) {
+    const playerId = account.playerId
+    if (this._refreshing.has(playerId)) { this._refreshing.set(playerId, true); return }
+    this._refreshing.set(playerId, false)
+    const commits = account.commits
+    this.store.readBalance(playerId).then((balance) => {
+      if (balance === null || account.commits !== commits || balance === account.balance) return
+      account.balance = balance
+      this.stats.refreshed++
+      for (const connection of account.connections) connection.sendJson({ type: 'balance', balance })
+    }, (error) => this.log.warn({ err: error, player: playerId }, 'could not re-read a balance')).finally(() => {
+      const again = this._refreshing.get(playerId)
+      this._refreshing.delete(playerId)
+      if (again) this._refresh(account)
+    })
+  }
+
+  async close () {
+    await this.subscriber?.quit().catch(() => this.subscriber.disconnect())
+  }
+}
