@@ -46,6 +46,10 @@ export async function buildApp (config, options = {}) {
     },
     trustProxy: config.trustProxy,
     bodyLimit: 16 * 1024,
+    // While closing, requests still go through the routes (a WebSocket then gets
+    // E_UNAVAILABLE and 1001). Fastify's own 503 leaves an upgrade's socket open,
+    // and that socket would hold the shutdown until SHUTDOWN_TIMEOUT_MS.
+    return503OnClosing: false,
     // Idle and slow HTTP connections are closed, so they cannot pile up (a
     // WebSocket leaves these behind: ws clears the socket's timeout on upgrade).
     connectionTimeout: config.httpIdleTimeoutMs,

@@ -1,28 +1,27 @@
-import fs from 'node:fs'
-import path from 'node:path'
-import Database from 'better-sqlite3'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
+import { openSqliteDatabase } from './sqlite-database.js'
+import { prepareBatchCommit } from './sqlite-batch.js'
+import { SqliteWriter } from './sqlite-writer.js'
 
 /**
  * The ledger on SQLite (better-sqlite3): WAL journal with synchronous=FULL,
- * so a committed transaction survives a power cut. better-sqlite3 is
- * synchronous; the methods are async only to share one interface with the
- * PostgreSQL store. A commit blocks the event loop for its fsync (about
- * 0.3 ms here); one commit per tick keeps that small.
+ * so a committed transaction survives a power cut. The tick's batches (most
+ * of the writes) are committed by a writer thread with its own connection
+ * (sqlite-writer.js), so the event loop does not wait for their fsync; the
+ * rest is synchronous on this connection, async only to share one interface
+ * with the PostgreSQL store. An in-memory database has no second
+ * connection: its batches are committed here.
  */
 export class SqliteStore {
   /** @param {{ file: string }} options file path or ':memory:' */
   constructor ({ file }) {
-    if (file !== ':memory:') fs.mkdirSync(path.dirname(file), { recursive: true })
     this.kind = 'sqlite'
-    this.db = new Database(file)
-    this.db.pragma('journal_mode = WAL')
-    this.db.pragma('synchronous = FULL')
-    this.db.pragma('foreign_keys = ON')
-    this.db.pragma('busy_timeout = 5000')
+    this.db = openSqliteDatabase(file)
     this._statements = new Map()
+    this._writer = file === ':memory:' ? null : new SqliteWriter(file)
+    this._commitHere = null
   }
 
   /** Cached prepared statement. @param {string} sql */
@@ -70,31 +69,11 @@ export class SqliteStore {
     return row ? accountFromRow(row) : null
   }
 
-  /** @param {import('./drop-record.js').LedgerBatch} batch */
+  /** @param {import('./records.js').LedgerBatch} batch */
   async commitBatch (batch) {
-    this.db.transaction(() => {
-      const insert = this._sql(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-          server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
-        VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 'in_flight', ?)`)
-      for (const d of batch.drops) {
-        insert.run(d.id, d.playerId, d.room, d.rows, d.risk, d.engineVersion, d.serverSeedId,
-          d.serverSeedHash, d.clientSeed, d.nonce, d.dropSeed, d.bet, d.startTick, d.createdAt)
-      }
-      const settle = this._sql(`UPDATE drops SET status = 'settled', bucket = ?, multiplier = ?, payout = ?,
-          ticks = ?, state_hash = ?, settled_at = ? WHERE id = ? AND status = 'in_flight'`)
-      for (const s of batch.settlements) {
-        const { changes } = settle.run(s.bucket, s.multiplier, s.payout, s.ticks, s.stateHash, s.settledAt, s.id)
-        if (changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
-      }
-      const credit = this._sql('UPDATE players SET balance = balance + ? WHERE id = ?')
-      for (const b of batch.balances) {
-        if (credit.run(b.delta, b.playerId).changes !== 1) throw new Error(`no player ${b.playerId}`)
-      }
-      const nonce = this._sql('UPDATE server_seeds SET next_nonce = MAX(next_nonce, ?) WHERE id = ?')
-      for (const n of batch.nonces) nonce.run(n.nextNonce, n.seedId)
-      const clientSeed = this._sql('UPDATE players SET client_seed = ? WHERE id = ?')
-      for (const c of batch.clientSeeds) clientSeed.run(c.clientSeed, c.playerId)
-    }).immediate()
+    if (this._writer) return this._writer.commit(batch)
+    this._commitHere ??= prepareBatchCommit(this.db)
+    this._commitHere.immediate(batch)
   }
 
   async rotateSeed ({ playerId, oldSeedId, newSeed, at }) {
@@ -158,6 +137,7 @@ export class SqliteStore {
   }
 
   async close () {
+    await this._writer?.close()
     if (this.db.open) this.db.close()
   }
 }

@@ -1,0 +1,77 @@
+import { describe, it, expect, beforeEach, afterEach } from 'vitest'
+import fs from 'node:fs'
+import os from 'node:os'
+import path from 'node:path'
+import Database from 'better-sqlite3'
+import { SqliteStore } from '../../server/store/sqlite-store.js'
+
+/**
+ * The SQLite store commits the tick's batches on a writer thread with its
+ * own connection (server/store/sqlite-writer.js): what it reports committed
+ * is in the file, a failed batch leaves nothing behind, close() waits for
+ * what was sent, and a thread that dies is replaced.
+ */
+let dir, file, store
+
+beforeEach(async () => {
+  dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-writer-'))
+  file = path.join(dir, 'ledger.sqlite')
+  store = new SqliteStore({ file })
+  await store.migrate()
+  await store.createPlayer({ id: 'p1', tokenHash: 'h1', balance: 1000, clientSeed: 'c', createdAt: 1, seed: { id: 's1', seed: 'a'.repeat(64), hash: 'b'.repeat(64) } })
+})
+
+afterEach(async () => {
+  await store.close()
+  fs.rmSync(dir, { recursive: true, force: true })
+})
+
+const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, startTick: 0, createdAt: 2 })
+const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, nonces: [{ seedId: 's1', nextNonce: 100 }], clientSeeds: [] })
+/** Reads the file through a connection of its own, as another process would. */
+const read = (sql) => { const db = new Database(file, { readonly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
+
+describe('SQLite writer thread', () => {
+  it('commits on a thread of its own, durably: another connection sees the rows once the promise resolves', async () => {
+    await store.commitBatch(batch([drop(1), drop(2)], [], [{ playerId: 'p1', delta: -20 }]))
+    expect(store._writer.worker).not.toBeNull()
+    expect(read('SELECT id, status FROM drops ORDER BY id')).toEqual([{ id: 1, status: 'in_flight' }, { id: 2, status: 'in_flight' }])
+    expect(read("SELECT balance FROM players WHERE id = 'p1'")).toEqual([{ balance: 980 }])
+    // The store's own connection reads what the thread wrote.
+    expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([1, 2])
+  })
+
+  it('rejects a failing batch with its error and leaves none of it written', async () => {
+    await store.commitBatch(batch([drop(1)]))
+    const settle = { id: 99, bucket: 1, multiplier: 1, payout: 10, ticks: 100, stateHash: '0'.repeat(16), settledAt: 3 }
+    await expect(store.commitBatch(batch([drop(2)], [settle], [{ playerId: 'p1', delta: 10 }]))).rejects.toThrow(/drop 99 is not in flight/)
+    expect(read('SELECT id FROM drops')).toEqual([{ id: 1 }])
+    expect(read("SELECT balance FROM players WHERE id = 'p1'")).toEqual([{ balance: 1000 }])
+    // The next batch goes through.
+    await store.commitBatch(batch([drop(3)]))
+    expect(read('SELECT id FROM drops ORDER BY id')).toEqual([{ id: 1 }, { id: 3 }])
+  })
+
+  it('close() waits for the batches already sent', async () => {
+    const pending = store.commitBatch(batch([drop(1), drop(2), drop(3)]))
+    await store.close()
+    await pending
+    expect(read('SELECT count(*) AS n FROM drops')).toEqual([{ n: 3 }])
+    store = new SqliteStore({ file }) // for afterEach
+  })
+
+  it('settles what a dead thread held, then starts a new one', async () => {
+    await store.commitBatch(batch([drop(1)]))
+    const first = store._writer.worker
+    const pending = store.commitBatch(batch([drop(2)]))
+    await first.terminate()
+    // Killed before or after its commit: the promise settles either way, never hangs,
+    // and a batch reported committed is in the file.
+    const outcome = await pending.then(() => 'committed', (error) => error.message)
+    if (outcome === 'committed') expect(read('SELECT id FROM drops').map((r) => r.id)).toContain(2)
+    else expect(outcome).toMatch(/exited/)
+    await store.commitBatch(batch([drop(3)]))
+    expect(store._writer.worker).not.toBe(first)
+    expect(read('SELECT id FROM drops ORDER BY id').map((r) => r.id)).toContain(3)
+  })
+})
