@@ -7,9 +7,10 @@ import { dropInitialConditions } from './drop-initial-conditions.js'
 export const MAX_DROP_TICKS = 3600
 /**
  * Static-grid cell (px) for boards: small cells keep the pegs a ball must
- * test per sub-step to two or three. (The world's default is 50 px.)
+ * test per sub-step to about two. (The world's default is 50 px.) Any size
+ * gives the same outcomes: a cell lists every shape its balls can reach.
  */
-export const STATIC_CELL_SIZE = 16
+export const STATIC_CELL_SIZE = 8
 
 /**
  * @typedef {object} DropOutcome

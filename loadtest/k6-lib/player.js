@@ -245,9 +245,16 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     connect(config, room, token, leaveAt, ownerUrl, redirects + 1)
   }
 
-  /** Called on frame `every`·k (remember it) and the one after (time the pair): uint32 LE tick at offset 1. */
+  /**
+   * Called on frame `every`·k (remember it) and the one after (time the pair).
+   * The tick is the uint32 LE at offset 1 of the snapshot, which a room frame
+   * (kind 2: uint32 events length L at offset 1, then L bytes of events)
+   * carries at offset 5 + L.
+   */
   function sampleSnapshot (buffer, at) {
-    const b = new Uint8Array(buffer, 1, 4)
+    const head = new Uint8Array(buffer, 0, 5)
+    const start = head[0] === 2 ? 5 + (head[1] | (head[2] << 8) | (head[3] << 16)) + head[4] * 16777216 : 0
+    const b = new Uint8Array(buffer, start + 1, 4)
     const tick = (b[0] | (b[1] << 8) | (b[2] << 16)) + b[3] * 16777216
     if (sampleTick >= 0) {
       const ticks = tick - sampleTick
