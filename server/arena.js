@@ -252,6 +252,8 @@ export class Arena {
     // Clustered: each message shows the balance right after its own change, worked back from
     // the committed one, so a player's `dropped`/`settled` in one batch still add up one by one.
     const running = outcome ? balancesBefore(drops, settlements, outcome) : null
+    /** rooms with events queued by this batch (SPECTATOR_EVENTS=immediate sends them at the end) */
+    const touched = this.config.spectatorEvents === 'immediate' ? new Set() : null
     if (outcome) this.cluster?.balances.committed(outcome.balances.keys())
     for (const drop of drops) {
       const account = drop.account
@@ -280,6 +282,7 @@ export class Arena {
         bet: drop.bet,
         slot: drop.slot
       }, account.balance)
+      touched?.add(drop.room)
     }
     for (const settlement of settlements) {
       const { drop, payout } = settlement
@@ -303,6 +306,13 @@ export class Arena {
         tick: settlement.tick,
         stateHash: settlement.stateHash
       }, account.balance)
+      touched?.add(drop.room)
+    }
+    if (touched) {
+      for (const room of touched) {
+        const events = room.takeEvents()
+        if (events !== null) this._sendEvents(room, events)
+      }
     }
   }
 

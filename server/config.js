@@ -17,6 +17,7 @@ const VARIABLES = {
   DATABASE_URL: { default: '', parse: databaseUrl, secret: true },
   OPERATOR_TOKEN: { default: '', parse: operatorToken, secret: true },
   SNAPSHOT_HZ: { default: '20', parse: oneOf(SNAPSHOT_RATES.map(String), Number) },
+  SPECTATOR_EVENTS: { default: 'snapshot', parse: oneOf(['snapshot', 'immediate']) },
   STARTING_BALANCE: { default: '100000', parse: integer(0, Number.MAX_SAFE_INTEGER) },
   MIN_BET: { default: '1', parse: integer(1, Number.MAX_SAFE_INTEGER) },
   MAX_BET: { default: '1000000', parse: integer(1, Number.MAX_SAFE_INTEGER) },
@@ -55,6 +56,7 @@ const VARIABLES = {
  * @property {{ kind: 'sqlite', file: string } | { kind: 'postgres', url: string }} database
  * @property {string} operatorToken @property {boolean} operatorTokenGenerated
  * @property {number} snapshotHz @property {number} startingBalance
+ * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
  * @property {number} dropRate drops per second per player (token bucket refill)
  * @property {number} dropBurst token bucket capacity
@@ -123,6 +125,7 @@ export function loadConfig (env = process.env) {
     operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
     operatorTokenGenerated: generated,
     snapshotHz: values.SNAPSHOT_HZ,
+    spectatorEvents: values.SPECTATOR_EVENTS,
     startingBalance: values.STARTING_BALANCE,
     minBet: values.MIN_BET,
     maxBet: values.MAX_BET,

@@ -214,3 +214,29 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
     await client.close()
   })
 })
+
+describe('how spectators hear of drops (SPECTATOR_EVENTS)', () => {
+  for (const mode of ['snapshot', 'immediate']) {
+    describe(mode, () => {
+      const context = useServerOn('sqlite', { env: { SPECTATOR_EVENTS: mode } })
+
+      it(mode === 'snapshot'
+        ? 'sends the other players\' drops with the next snapshot, in one room frame'
+        : 'sends the other players\' drops as soon as they are committed, in an events message', async () => {
+        const server = context.server
+        const dropper = await server.player('14-medium')
+        const watcher = await server.player('14-medium')
+        dropper.client.send({ type: 'drop', bet: 2, ref: 'w' })
+        const own = await dropper.client.take((m) => m.ref === 'w')
+        const seen = await watcher.client.take((m) => m.type === 'dropped' && m.dropId === own.dropId)
+        expect(seen.balance).toBeUndefined()
+        const batch = watcher.client.batches.find((b) => b.events.some((e) => e.dropId === own.dropId))
+        expect(batch.via).toBe(mode === 'snapshot' ? 'room frame' : 'events')
+        // The dropper's own copy came on its own (with the balance), and it skips its event in the room's batch.
+        expect(dropper.client.messages.filter((m) => m.type === 'dropped' && m.dropId === own.dropId)).toHaveLength(1)
+        await watcher.client.take((m) => m.type === 'settled' && m.dropId === own.dropId)
+        await Promise.all([dropper.client.close(), watcher.client.close()])
+      })
+    })
+  }
+})

@@ -13,6 +13,8 @@ export class GameClient {
     this.socket = new WebSocket(url)
     this.messages = []
     this.snapshots = []
+    /** how the room's events arrived: { via: 'room frame' | 'events', events } */
+    this.batches = []
     this.taken = new Set()
     this.waiters = []
     this.closeEvent = null
@@ -31,11 +33,15 @@ export class GameClient {
       if (isBinary) {
         // A room frame's events read as if each had come on its own, before the snapshot.
         const { events, snapshot } = splitRoomFrame(data)
+        if (events.length > 0) this.batches.push({ via: 'room frame', events })
         this._roomEvents(events)
         this.snapshots.push({ ...decodeSnapshot(snapshot), bytes: data.length })
       } else {
         const message = JSON.parse(data.toString())
-        if (message.type === 'events') this._roomEvents(message.events)
+        if (message.type === 'events') {
+          this.batches.push({ via: 'events', events: message.events })
+          this._roomEvents(message.events)
+        }
         else this.messages.push(message)
       }
       this._notify()
