@@ -12,12 +12,9 @@
  * socket. Goal: snapshots < 4 KB/s per client.
  * Exit code 0 whatever the figures.
  */
-import fs from 'node:fs'
-import os from 'node:os'
-import path from 'node:path'
 import WebSocket from 'ws'
 import { buildApp } from '../server/app.js'
-import { loadConfig } from '../server/config.js'
+import { withBenchLedger } from './temp-ledger.js'
 import { decodeSnapshot, splitRoomFrame } from '../server/rooms/snapshot-codec.js'
 import { formatTable, fixed, int } from './table.js'
 
@@ -35,27 +32,10 @@ const quick = args.includes('--quick')
 const WARMUP_SECONDS = quick ? 5 : 8
 const MEASURE_SECONDS = quick ? 5 : 30
 
-const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-bench-'))
-for (const signal of ['SIGINT', 'SIGTERM']) {
-  process.once(signal, () => { fs.rmSync(dir, { recursive: true, force: true }); process.exit(130) })
-}
-try {
-  await run()
-} finally {
-  fs.rmSync(dir, { recursive: true, force: true })
-}
+await withBenchLedger({ SNAPSHOT_HZ: '20', DROP_RATE: '100', DROP_BURST: '100' }, run)
 
-async function run () {
-  const config = loadConfig({
-    DATABASE_URL: `sqlite:${path.join(dir, 'ledger.sqlite')}`,
-    OPERATOR_TOKEN: 'bench-operator-token-0123456789',
-    LOG_LEVEL: 'silent',
-    SNAPSHOT_HZ: '20',
-    DROP_RATE: '100',
-    DROP_BURST: '100',
-    STARTING_BALANCE: '1000000000',
-    CLIENT_DIR: path.join(dir, 'no-client')
-  })
+/** @param {import('../server/config.js').Config} config */
+async function run (config) {
   const app = await buildApp(config, { logger: false })
   await app.listen({ port: 0, host: '127.0.0.1' })
   const { port } = app.server.address()
