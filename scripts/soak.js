@@ -32,9 +32,10 @@ const OPERATOR_TOKEN = 'soak-operator-token-0123456789abcdef'
 const START = 100000
 
 /**
- * Flat: the trend (least-squares slope × the measured span) moves a series
+ * Flat: the trend (least-squares slope × the measured span) raises a series
  * by less than 10% of its mean, or by less than an absolute floor (noise:
- * GC and allocator sawtooth on short runs).
+ * GC and allocator sawtooth on short runs). A soak looks for growth: a
+ * series that falls is flat for this purpose (and reported as falling).
  */
 const FLAT_FLOOR = { rssMb: 8, heapMb: 4, tickMs: 0.1 }
 
@@ -204,10 +205,10 @@ async function main () {
   const mean = (key) => warm.reduce((sum, x) => sum + x[key], 0) / warm.length
   const spanMin = warm.length > 1 ? (warm.at(-1).t - warm[0].t) / 60 : 0
   const trend = { rssMbPerMin: perMin('rssMb'), heapMbPerMin: perMin('heapMb'), tickMsPerMin: perMin('tickMs') }
-  const flat = Object.fromEntries(Object.entries(FLAT_FLOOR).map(([key, floor]) => {
-    const drift = Math.abs(trend[`${key}PerMin`] * spanMin)
-    return [key, drift < Math.max(floor, 0.1 * mean(key))]
-  }))
+  const limits = Object.fromEntries(Object.entries(FLAT_FLOOR).map(([key, floor]) => [key, Math.max(floor, 0.1 * mean(key))]))
+  const drift = (key) => trend[`${key}PerMin`] * spanMin
+  const flat = Object.fromEntries(Object.keys(FLAT_FLOOR).map((key) => [key, drift(key) < limits[key]]))
+  const label = (key) => drift(key) < -limits[key] ? 'falling' : (flat[key] ? 'flat' : 'GROWING')
   const ledger = databaseUrl.startsWith('sqlite:') ? checkLedger(databaseUrl.slice('sqlite:'.length), players) : null
   const summary = {
     durationS: durationMs / 1000,
@@ -227,7 +228,7 @@ async function main () {
     ledger
   }
   const lost = !ledger || ledger.problems.length > 0 || exit.code !== 0
-  log(`\nafter warm-up: RSS ${trend.rssMbPerMin.toFixed(3)} MB/min (${flat.rssMb ? 'flat' : 'GROWING'}), heap ${trend.heapMbPerMin.toFixed(3)} MB/min (${flat.heapMb ? 'flat' : 'GROWING'}), tick ${trend.tickMsPerMin.toFixed(4)} ms/min (${flat.tickMs ? 'flat' : 'GROWING'}); mean tick ${summary.tickMs.mean.toFixed(3)} ms`)
+  log(`\nafter warm-up: RSS ${trend.rssMbPerMin.toFixed(3)} MB/min (${label('rssMb')}), heap ${trend.heapMbPerMin.toFixed(3)} MB/min (${label('heapMb')}), tick ${trend.tickMsPerMin.toFixed(4)} ms/min (${label('tickMs')}); mean tick ${summary.tickMs.mean.toFixed(3)} ms`)
   if (ledger) log(`ledger: ${ledger.drops} drops recorded, ${ledger.acked} acknowledged, ${ledger.problems.length === 0 ? 'all settled from their seeds, balances exact, nothing lost' : `${ledger.problems.length} PROBLEMS: ${ledger.problems.slice(0, 5).join('; ')}`}`)
   console.log(JSON.stringify(summary))
   for (const player of players) player.socket.terminate()
