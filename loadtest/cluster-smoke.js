@@ -22,6 +22,7 @@ import { freePort } from '../tests/cluster/helpers/cluster.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const STARTING_BALANCE = 100000
+const STOP_TIMEOUT_MS = 30_000
 const { values } = parseArgs({
   options: {
     vus: { type: 'string', default: '40' },
@@ -33,13 +34,21 @@ const { values } = parseArgs({
 
 const postgres = await startPostgres()
 let cluster = null
+for (const signal of ['SIGINT', 'SIGTERM']) {
+  process.once(signal, () => {
+    try { if (cluster) process.kill(-cluster.pid, 'SIGKILL') } catch {}
+    postgres.stop().finally(() => process.exit(130))
+  })
+}
 let exitCode = 1
 try {
   const databaseUrl = await postgres.createDatabase()
   const port = await freePort()
   const base = `http://127.0.0.1:${port}`
+  // Its own process group, so that the whole cluster (proxy and workers) can be stopped at once.
   cluster = spawn(process.execPath, [path.join(ROOT, 'scripts/cluster.js'), '--workers', values.workers, '--port', String(port)], {
     cwd: ROOT,
+    detached: true,
     stdio: ['ignore', 'inherit', 'inherit'],
     env: {
       ...process.env,
@@ -64,14 +73,20 @@ try {
 } catch (error) {
   console.error(`cluster smoke: ${error.stack ?? error.message}`)
 } finally {
-  if (cluster && cluster.exitCode === null) {
-    const exited = new Promise((resolve) => cluster.once('exit', resolve))
-    cluster.kill('SIGTERM')
-    await exited
-  }
+  await stopCluster()
   await postgres.stop()
 }
 process.exit(exitCode)
+
+/** SIGTERM (graceful: balls settle, leases go back), then, past STOP_TIMEOUT_MS, SIGKILL to the whole group. */
+async function stopCluster () {
+  if (!cluster || cluster.exitCode !== null || cluster.signalCode !== null) return
+  const exited = new Promise((resolve) => cluster.once('exit', () => resolve(true)))
+  cluster.kill('SIGTERM')
+  if (await Promise.race([exited, new Promise((resolve) => setTimeout(() => resolve(false), STOP_TIMEOUT_MS))])) return
+  console.error(`cluster smoke: the cluster did not stop within ${STOP_TIMEOUT_MS} ms; killing it`)
+  try { process.kill(-cluster.pid, 'SIGKILL') } catch {}
+}
 
 /** Every worker answers through the proxy's /n/{i} path. */
 async function waitForWorkers (base, count) {
