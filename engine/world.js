@@ -272,8 +272,9 @@ export class World {
    * Most bodies, most steps, need one sub-step and hit nothing: this loop
    * moves those itself and leaves the rest (a possible impact, a fast body)
    * to _advanceBody(), which does the full swept path. The loop makes no
-   * call and works on locals; a body it hands over is left untouched, and
-   * the arithmetic is the same, so both ways give the same bits.
+   * call and works on locals; a body it hands over keeps its state (only
+   * its previous pose is recorded), and the arithmetic is the same, so both
+   * ways give the same bits.
    * @param {number} count
    */
   _advanceBodies (count) {
