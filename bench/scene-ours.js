@@ -47,9 +47,8 @@ export class OursScene {
     world.step()
     schedule.tick++
     const ids = this.ids
-    const y = world.y
     for (let k = 0, n = schedule.released; k < n; k++) {
-      if (schedule.ageAndCheck(k, y[ids[k]], this.lineY)) {
+      if (schedule.ageAndCheck(k, world.yOf(ids[k]), this.lineY)) {
         world.destroyBody(ids[k])
         ids[k] = this._create()
       }

@@ -83,14 +83,14 @@ export class DropSimulator {
     for (let id = 0, count = world.bodyCount; id < count; id++) {
       if (ticks[id] < 0) continue
       const age = ++ticks[id]
-      if (world.y[id] > lineY || age >= MAX_DROP_TICKS) this._land(id, age)
+      if (world.yOf(id) > lineY || age >= MAX_DROP_TICKS) this._land(id, age)
     }
     return this.landed
   }
 
   _land (id, age) {
     const world = this.world
-    const bucket = bucketAt(this.board, world.x[id])
+    const bucket = bucketAt(this.board, world.xOf(id))
     this.landed.push({
       key: this._keys[id],
       body: id,
@@ -98,9 +98,9 @@ export class DropSimulator {
       multiplier: this.board.multipliers[bucket],
       ticks: age,
       stateHash: world.bodyStateHash(id),
-      x: world.x[id],
-      y: world.y[id],
-      angle: world.angle[id]
+      x: world.xOf(id),
+      y: world.yOf(id),
+      angle: world.angleOf(id)
     })
     this._keys[id] = undefined
     this._ticks[id] = -1
@@ -139,7 +139,7 @@ export function simulateDrop (board, dropSeed, options = {}) {
   if (simulator.inFlight !== 0) simulator = new DropSimulator(board) // re-entrant use
   const body = simulator.addDrop(dropSeed)
   const world = simulator.world
-  const path = options.trajectory ? [world.x[body], world.y[body], world.angle[body]] : null
+  const path = options.trajectory ? [world.xOf(body), world.yOf(body), world.angleOf(body)] : null
   for (;;) {
     const landed = simulator.step()
     if (landed.length > 0) {
@@ -148,6 +148,6 @@ export function simulateDrop (board, dropSeed, options = {}) {
       path.push(x, y, angle)
       return { bucket, multiplier, ticks, stateHash, trajectory: Float64Array.from(path) }
     }
-    if (path) path.push(world.x[body], world.y[body], world.angle[body])
+    if (path) path.push(world.xOf(body), world.yOf(body), world.angleOf(body))
   }
 }

@@ -5,6 +5,7 @@
  */
 export { ENGINE_VERSION } from './version.js'
 export { World, DEFAULT_TIMESTEP, DEFAULT_GRAVITY, DEFAULT_CELL_SIZE } from './world.js'
+export { BODY_STRIDE, BODY_X, BODY_Y, BODY_ANGLE } from './body-layout.js'
 export { FixedTimestep } from './fixed-timestep.js'
 export { SpatialHash } from './spatial-hash.js'
 export { StaticGrid } from './static-grid.js'

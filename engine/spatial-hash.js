@@ -34,11 +34,12 @@ export class SpatialHash {
   }
 
   /**
-   * @param {Float64Array} xs @param {Float64Array} ys
+   * @param {Float64Array} positions x of body i at i × stride, its y right after
+   * @param {number} stride
    * @param {Uint8Array} member 1 for bodies to index
    * @param {number} count bodies 0..count-1 are considered
    */
-  rebuild (xs, ys, member, count) {
+  rebuild (positions, stride, member, count) {
     if (count > this.capacity) this._resize(nextPowerOfTwo(count))
     const start = this._bucketStart
     const cursor = this._cursor
@@ -46,8 +47,8 @@ export class SpatialHash {
     start.fill(0)
     for (let i = 0; i < count; i++) {
       if (member[i] !== 1) { this._bodyBucket[i] = -1; continue }
-      const ix = Math.floor(xs[i] * inv)
-      const iy = Math.floor(ys[i] * inv)
+      const ix = Math.floor(positions[i * stride] * inv)
+      const iy = Math.floor(positions[i * stride + 1] * inv)
       const bucket = hashCell(ix, iy) & this._mask
       this._cellX[i] = ix
       this._cellY[i] = iy

@@ -8,6 +8,8 @@
  * is boxed on the hot path.
  */
 
+import { BODY_X, BODY_Y, BODY_RADIUS } from './body-layout.js'
+
 export const SHAPE_CIRCLE = 0
 export const SHAPE_SEGMENT = 1
 
@@ -154,14 +156,15 @@ export class StaticShapes {
   }
 
   /**
-   * Continuous narrow phase: dynamic circle `i` of `bodies`, moving by
+   * Continuous narrow phase: the dynamic circle at offset `i` of the body
+   * state `bodies` (World.state, body-layout.js), moving by
    * (io[SWEEP_DX], io[SWEEP_DY]) in a straight line, against shape `id`.
    * Returns true when it touches the shape while approaching it, writing
    * the time of impact in [0, 1], the unit normal (from shape to circle)
    * and the overlap at that time (0 unless already overlapping) into io.
    * @param {number} id
-   * @param {{ x: Float64Array, y: Float64Array, radius: Float64Array }} bodies
-   * @param {number} i
+   * @param {Float64Array} bodies the world's body state
+   * @param {number} i the body's offset in it (id × BODY_STRIDE)
    * @param {Float64Array} io
    */
   sweep (id, bodies, i, io) {
@@ -170,17 +173,17 @@ export class StaticShapes {
 
   sweepCircle (id, bodies, i, io) {
     const p = id * PARAMS_PER_SHAPE
-    io[SWEEP_PX] = bodies.x[i]; io[SWEEP_PY] = bodies.y[i]
+    io[SWEEP_PX] = bodies[i + BODY_X]; io[SWEEP_PY] = bodies[i + BODY_Y]
     io[SWEEP_CX] = this.params[p]; io[SWEEP_CY] = this.params[p + 1]
-    io[SWEEP_REACH] = bodies.radius[i] + this.params[p + 2]
+    io[SWEEP_REACH] = bodies[i + BODY_RADIUS] + this.params[p + 2]
     return sweepPoint(io)
   }
 
   sweepSegment (id, bodies, i, io) {
     const params = this.params
     const p = id * PARAMS_PER_SHAPE
-    const x = bodies.x[i]; const y = bodies.y[i]
-    const reach = bodies.radius[i]
+    const x = bodies[i + BODY_X]; const y = bodies[i + BODY_Y]
+    const reach = bodies[i + BODY_RADIUS]
     const ax = params[p]; const ay = params[p + 1]
     const bx = params[p + 2]; const by = params[p + 3]
     const ex = bx - ax; const ey = by - ay

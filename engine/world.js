@@ -5,6 +5,10 @@ import { solveStaticContact, solveBodyContact } from './contact-solver.js'
 import { FixedTimestep } from './fixed-timestep.js'
 import { StateHasher } from './state-hasher.js'
 import { METAL } from './materials.js'
+import {
+  BODY_STRIDE, BODY_X, BODY_Y, BODY_VX, BODY_VY, BODY_ANGLE, BODY_SPIN, BODY_PREVIOUS_X, BODY_PREVIOUS_Y,
+  BODY_PREVIOUS_ANGLE, BODY_RADIUS, BODY_INVERSE_MASS, BODY_INVERSE_INERTIA, BODY_RESTITUTION, BODY_FRICTION
+} from './body-layout.js'
 
 export const DEFAULT_TIMESTEP = 1 / 60
 export const DEFAULT_GRAVITY = 980
@@ -15,6 +19,13 @@ export const MAX_SUBSTEPS = 16
 /** Impacts resolved per sub-step; a ball wedged in a corner stops there for the rest of it. */
 export const MAX_IMPACTS_PER_SUBSTEP = 4
 const TWO_PI = 6.283185307179586
+// The body layout as module-private constants, which V8 folds into the code (see body-layout.js).
+const STRIDE = BODY_STRIDE
+const X = BODY_X; const Y = BODY_Y; const VX = BODY_VX; const VY = BODY_VY
+const ANGLE = BODY_ANGLE; const SPIN = BODY_SPIN
+const PREVIOUS_X = BODY_PREVIOUS_X; const PREVIOUS_Y = BODY_PREVIOUS_Y; const PREVIOUS_ANGLE = BODY_PREVIOUS_ANGLE
+const RADIUS = BODY_RADIUS; const INVERSE_MASS = BODY_INVERSE_MASS; const INVERSE_INERTIA = BODY_INVERSE_INERTIA
+const RESTITUTION = BODY_RESTITUTION; const FRICTION = BODY_FRICTION
 /** Floats per grid item in World._gridRecords: peg x, y, radius (-1: not a peg). */
 const GRID_RECORD = 3
 /** px: far above the rounding error of board coordinates, far below any distance that matters. */
@@ -44,8 +55,10 @@ function segmentPathMisses (sideStart, sideEnd, slab) {
 /**
  * A 2D rigid-body world of dynamic circles and static shapes.
  *
- * Per-body state lives in Float64Arrays indexed by body id; every loop runs
- * in id order, so results never depend on insertion into a hash table.
+ * Per-body state lives in one Float64Array, `state`, a block of
+ * BODY_STRIDE doubles per body id (body-layout.js; read it with xOf(id),
+ * yOf(id), angleOf(id) …); every loop runs in id order, so results never
+ * depend on insertion into a hash table.
  * Each step integrates with semi-implicit Euler (velocity first, then
  * position with the new velocity). The position update is a straight path
  * swept against the static shapes: the body stops at the first time of
@@ -114,15 +127,11 @@ export class World {
   _allocate (capacity) {
     const old = this.capacity ? this : null
     this.capacity = capacity
-    const f64 = (name) => { const a = new Float64Array(capacity); if (old) a.set(old[name]); return a }
+    /** Every body's state, BODY_STRIDE doubles per id (body-layout.js); read it with xOf(id) and the others. */
+    const state = new Float64Array(capacity * STRIDE)
+    if (old) state.set(old.state)
+    this.state = state
     const u8 = (name) => { const a = new Uint8Array(capacity); if (old) a.set(old[name]); return a }
-    this.x = f64('x'); this.y = f64('y')
-    this.vx = f64('vx'); this.vy = f64('vy')
-    this.angle = f64('angle'); this.angularVelocity = f64('angularVelocity')
-    this.previousX = f64('previousX'); this.previousY = f64('previousY'); this.previousAngle = f64('previousAngle')
-    this.radius = f64('radius')
-    this.inverseMass = f64('inverseMass'); this.inverseInertia = f64('inverseInertia')
-    this.restitution = f64('restitution'); this.friction = f64('friction')
     this.alive = u8('alive')
     this.collidesWithBodies = u8('collidesWithBodies')
     /** bodies _advanceBodies() hands to _advanceBody() this step */
@@ -130,6 +139,19 @@ export class World {
     const i32 = (name) => { const a = new Int32Array(capacity); if (old) a.set(old[name]); return a }
     this._freeIds = i32('_freeIds')
   }
+
+  // ---- reading a body ----------------------------------------------------
+
+  /** @param {number} id */ xOf (id) { return this.state[id * STRIDE + X] }
+  /** @param {number} id */ yOf (id) { return this.state[id * STRIDE + Y] }
+  /** @param {number} id */ vxOf (id) { return this.state[id * STRIDE + VX] }
+  /** @param {number} id */ vyOf (id) { return this.state[id * STRIDE + VY] }
+  /** @param {number} id radians, in [0, 2π) */ angleOf (id) { return this.state[id * STRIDE + ANGLE] }
+  /** @param {number} id rad/s */ angularVelocityOf (id) { return this.state[id * STRIDE + SPIN] }
+  /** @param {number} id */ radiusOf (id) { return this.state[id * STRIDE + RADIUS] }
+  /** @param {number} id 1 / mass */ inverseMassOf (id) { return this.state[id * STRIDE + INVERSE_MASS] }
+  /** @param {number} id pose before the last step */ previousXOf (id) { return this.state[id * STRIDE + PREVIOUS_X] }
+  /** @param {number} id */ previousYOf (id) { return this.state[id * STRIDE + PREVIOUS_Y] }
 
   // ---- static geometry -------------------------------------------------
 
@@ -197,17 +219,19 @@ export class World {
     if (id >= this.capacity) this._allocate(this.capacity * 2)
     // Solid disc: m = ρ·π·r², I = m·r²/2.
     const mass = material.density * Math.PI * radius * radius
-    this.x[id] = this.previousX[id] = def.x
-    this.y[id] = this.previousY[id] = def.y
-    this.vx[id] = vx
-    this.vy[id] = vy
-    this.angle[id] = this.previousAngle[id] = angle
-    this.angularVelocity[id] = angularVelocity
-    this.radius[id] = radius
-    this.inverseMass[id] = 1 / mass
-    this.inverseInertia[id] = 2 / (mass * radius * radius)
-    this.restitution[id] = material.restitution
-    this.friction[id] = material.friction
+    const st = this.state
+    const b = id * STRIDE
+    st[b + X] = st[b + PREVIOUS_X] = def.x
+    st[b + Y] = st[b + PREVIOUS_Y] = def.y
+    st[b + VX] = vx
+    st[b + VY] = vy
+    st[b + ANGLE] = st[b + PREVIOUS_ANGLE] = angle
+    st[b + SPIN] = angularVelocity
+    st[b + RADIUS] = radius
+    st[b + INVERSE_MASS] = 1 / mass
+    st[b + INVERSE_INERTIA] = 2 / (mass * radius * radius)
+    st[b + RESTITUTION] = material.restitution
+    st[b + FRICTION] = material.friction
     this.alive[id] = 1
     const pairs = def.collidesWithBodies ?? true
     this.collidesWithBodies[id] = pairs ? 1 : 0
@@ -261,7 +285,7 @@ export class World {
     const count = this.bodyCount
     this._advanceBodies(count)
     if (this._pairCount > 1) {
-      this._pairHash.rebuild(this.x, this.y, this.collidesWithBodies, count)
+      this._pairHash.rebuild(this.state, STRIDE, this.collidesWithBodies, count)
       this._pairHash.forEachCandidatePair(count, this._solvePair)
     }
     this.tick++
@@ -293,21 +317,18 @@ export class World {
     const records = this._gridRecords
     const shapeParams = this.statics.params
     const alive = this.alive
-    const xs = this.x; const ys = this.y
-    const vxs = this.vx; const vys = this.vy
-    const angles = this.angle; const angularVelocities = this.angularVelocity
-    const previousXs = this.previousX; const previousYs = this.previousY; const previousAngles = this.previousAngle
-    const radii = this.radius
+    const st = this.state
     const handedOver = this._handedOver
     let handedOverCount = 0
-    for (let i = 0; i < count; i++) {
+    for (let i = 0, b = 0; i < count; i++, b += STRIDE) {
       if (alive[i] !== 1) continue
-      const x = xs[i]; const y = ys[i]
-      previousXs[i] = x
-      previousYs[i] = y
-      previousAngles[i] = angles[i]
-      let vx = vxs[i]; let vy = vys[i]
-      const radius = radii[i]
+      const x = st[b + X]; const y = st[b + Y]
+      const angle0 = st[b + ANGLE]
+      st[b + PREVIOUS_X] = x
+      st[b + PREVIOUS_Y] = y
+      st[b + PREVIOUS_ANGLE] = angle0
+      let vx = st[b + VX]; let vy = st[b + VY]
+      const radius = st[b + RADIUS]
       // The sub-step count as _advanceBody() works it out: more than one hands the body over.
       const speedX = (vx < 0 ? -vx : vx) + absGx * dt
       const speedY = (vy < 0 ? -vy : vy) + absGy * dt
@@ -327,10 +348,10 @@ export class World {
           const pegRadius = records[r + 2]
           if (pegRadius > 0) {
             const mx = x - records[r]; const my = y - records[r + 1]
-            const b = mx * dx + my * dy
+            const along = mx * dx + my * dy
             const reach = radius + pegRadius
             const c = mx * mx + my * my - reach * reach
-            if (pegPathMisses(b, c, pathLength2)) continue
+            if (pegPathMisses(along, c, pathLength2)) continue
           } else {
             const p = items[k] * paramsPerShape
             const nx = shapeParams[p + 4]; const ny = shapeParams[p + 5]
@@ -342,11 +363,11 @@ export class World {
         }
         if (!clear) { handedOver[handedOverCount++] = i; continue }
       }
-      let angle = angles[i] + angularVelocities[i] * dt
+      let angle = angle0 + st[b + SPIN] * dt
       if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
-      xs[i] = x + dx; ys[i] = y + dy
-      vxs[i] = vx; vys[i] = vy
-      angles[i] = angle
+      st[b + X] = x + dx; st[b + Y] = y + dy
+      st[b + VX] = vx; st[b + VY] = vy
+      st[b + ANGLE] = angle
     }
     for (let k = 0; k < handedOverCount; k++) this._advanceBody(handedOver[k])
   }
@@ -379,13 +400,11 @@ export class World {
     const shapeParams = statics.params
     const sweep = this._sweep
     const contact = this._contact
-    const xs = this.x; const ys = this.y
-    const vxs = this.vx; const vys = this.vy
-    const angularVelocities = this.angularVelocity
-    const radii = this.radius
-    let vx = vxs[i]; let vy = vys[i]
-    let angle = this.angle[i]
-    const radius = radii[i]
+    const st = this.state
+    const base = i * STRIDE
+    let vx = st[base + VX]; let vy = st[base + VY]
+    let angle = st[base + ANGLE]
+    const radius = st[base + RADIUS]
     // Speed bound over the whole step (current speed plus what gravity adds),
     // compared squared so no root is needed.
     const speedX = (vx < 0 ? -vx : vx) + absGx * dt
@@ -399,13 +418,13 @@ export class World {
     for (let s = 0; s < substeps; s++) {
       vx += gx * h
       vy += gy * h
-      angle += angularVelocities[i] * h
+      angle += st[base + SPIN] * h
       if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
       // Move along the straight sub-step path, stopping at each first impact
       // to resolve it, then carrying on with the new velocity.
       let remaining = 1
       for (let impact = 0; impact < maxImpacts && remaining > 0; impact++) {
-        const x = xs[i]; const y = ys[i]
+        const x = st[base + X]; const y = st[base + Y]
         const cell = grid.cellAt(x, y)
         const dx = vx * h * remaining
         const dy = vy * h * remaining
@@ -457,7 +476,7 @@ export class World {
             if (segmentPathMisses(sideStart, sideStart + dx * nx + dy * ny, radius + slabTolerance)) continue
             // Strictly earlier wins, so ties go to the lowest shape id.
             sweep[sweepDx] = dx; sweep[sweepDy] = dy
-            if (statics.sweep(shape, this, i, sweep) && sweep[sweepTime] < firstTime) {
+            if (statics.sweep(shape, st, base, sweep) && sweep[sweepTime] < firstTime) {
               first = shape
               firstTime = sweep[sweepTime]
               contact[sweepNx] = sweep[sweepNx]; contact[sweepNy] = sweep[sweepNy]; contact[sweepDepth] = sweep[sweepDepth]
@@ -465,24 +484,26 @@ export class World {
           }
         }
         if (first < 0) {
-          xs[i] = x + dx; ys[i] = y + dy
+          st[base + X] = x + dx; st[base + Y] = y + dy
           break
         }
-        xs[i] = x + dx * firstTime; ys[i] = y + dy * firstTime
+        st[base + X] = x + dx * firstTime; st[base + Y] = y + dy * firstTime
         remaining -= remaining * firstTime
-        vxs[i] = vx; vys[i] = vy
-        solveStaticContact(this, i, statics, first, contact)
-        vx = vxs[i]; vy = vys[i]
+        st[base + VX] = vx; st[base + VY] = vy
+        solveStaticContact(st, base, statics, first, contact)
+        vx = st[base + VX]; vy = st[base + VY]
       }
     }
-    vxs[i] = vx; vys[i] = vy
-    this.angle[i] = angle
+    st[base + VX] = vx; st[base + VY] = vy
+    st[base + ANGLE] = angle
   }
 
   _collidePair (i, j) {
-    const dx = this.x[i] - this.x[j]
-    const dy = this.y[i] - this.y[j]
-    const reach = this.radius[i] + this.radius[j]
+    const st = this.state
+    const bi = i * STRIDE; const bj = j * STRIDE
+    const dx = st[bi + X] - st[bj + X]
+    const dy = st[bi + Y] - st[bj + Y]
+    const reach = st[bi + RADIUS] + st[bj + RADIUS]
     const dist2 = dx * dx + dy * dy
     if (dist2 >= reach * reach) return
     const contact = this._pairContact
@@ -492,7 +513,7 @@ export class World {
     } else {
       contact[0] = 0; contact[1] = -1; contact[2] = reach
     }
-    solveBodyContact(this, i, j, contact)
+    solveBodyContact(st, bi, bj, contact)
   }
 
   // ---- state -----------------------------------------------------------
@@ -522,9 +543,11 @@ export class World {
   }
 
   _hashBody (h, i) {
-    h.addFloat64(this.x[i]).addFloat64(this.y[i])
-      .addFloat64(this.vx[i]).addFloat64(this.vy[i])
-      .addFloat64(this.angle[i]).addFloat64(this.angularVelocity[i])
+    const st = this.state
+    const b = i * STRIDE
+    h.addFloat64(st[b + X]).addFloat64(st[b + Y])
+      .addFloat64(st[b + VX]).addFloat64(st[b + VY])
+      .addFloat64(st[b + ANGLE]).addFloat64(st[b + SPIN])
   }
 
   /**
@@ -533,12 +556,14 @@ export class World {
    * @param {Float64Array | number[]} out
    */
   interpolatedPose (id, alpha, out) {
-    out[0] = this.previousX[id] + (this.x[id] - this.previousX[id]) * alpha
-    out[1] = this.previousY[id] + (this.y[id] - this.previousY[id]) * alpha
-    let da = this.angle[id] - this.previousAngle[id]
+    const st = this.state
+    const b = id * STRIDE
+    out[0] = st[b + PREVIOUS_X] + (st[b + X] - st[b + PREVIOUS_X]) * alpha
+    out[1] = st[b + PREVIOUS_Y] + (st[b + Y] - st[b + PREVIOUS_Y]) * alpha
+    let da = st[b + ANGLE] - st[b + PREVIOUS_ANGLE]
     if (da > Math.PI) da -= TWO_PI
     else if (da < -Math.PI) da += TWO_PI
-    out[2] = this.previousAngle[id] + da * alpha
+    out[2] = st[b + PREVIOUS_ANGLE] + da * alpha
     return out
   }
 
@@ -547,11 +572,13 @@ export class World {
     let energy = 0
     for (let i = 0; i < this.bodyCount; i++) {
       if (this.alive[i] !== 1) continue
-      const m = 1 / this.inverseMass[i]
-      const inertia = 1 / this.inverseInertia[i]
-      const v2 = this.vx[i] * this.vx[i] + this.vy[i] * this.vy[i]
-      const w = this.angularVelocity[i]
-      energy += 0.5 * m * v2 + 0.5 * inertia * w * w - m * (this.gravityX * this.x[i] + this.gravityY * this.y[i])
+      const b = i * STRIDE
+      const st = this.state
+      const m = 1 / st[b + INVERSE_MASS]
+      const inertia = 1 / st[b + INVERSE_INERTIA]
+      const v2 = st[b + VX] * st[b + VX] + st[b + VY] * st[b + VY]
+      const w = st[b + SPIN]
+      energy += 0.5 * m * v2 + 0.5 * inertia * w * w - m * (this.gravityX * st[b + X] + this.gravityY * st[b + Y])
     }
     return energy
   }

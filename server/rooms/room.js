@@ -1,4 +1,4 @@
-import { DropSimulator } from '../../engine/index.js'
+import { DropSimulator, BODY_STRIDE, BODY_X, BODY_Y } from '../../engine/index.js'
 import { encodeSnapshot, encodeRoomFrame } from './snapshot-codec.js'
 
 /**
@@ -138,7 +138,7 @@ export class Room {
     if (this.visibleCount === 0 && !this._lastSnapshotHadBalls) return null
     this._lastSnapshotHadBalls = this.visibleCount > 0
     const world = this.simulator.world
-    return encodeSnapshot(this.tick, this.visible, world.bodyCount, world.x, world.y)
+    return encodeSnapshot(this.tick, this.visible, world.bodyCount, world.state, world.state, BODY_STRIDE, BODY_X, BODY_Y)
   }
 
   /** Visible balls with what a late joiner needs to replay them from their seeds. */
@@ -158,8 +158,8 @@ export class Room {
         dropSeed: drop.dropSeed,
         bet: drop.bet,
         startTick: drop.startTick,
-        x: world.x[slot],
-        y: world.y[slot]
+        x: world.xOf(slot),
+        y: world.yOf(slot)
       })
     }
     return states

@@ -36,10 +36,13 @@ export function quantizePosition (px) {
  * @param {number} tick
  * @param {Uint8Array} visible 1 at every slot to include
  * @param {number} slotLimit only slots below this are considered
- * @param {Float64Array} xs x by slot @param {Float64Array} ys y by slot
+ * @param {Float64Array} xs x of slot s at xs[s × stride + xOffset]
+ * @param {Float64Array} ys y of slot s at ys[s × stride + yOffset]
+ * @param {number} [stride] 1 for arrays by slot; the world's BODY_STRIDE for its body state
+ * @param {number} [xOffset] @param {number} [yOffset]
  * @returns {Buffer}
  */
-export function encodeSnapshot (tick, visible, slotLimit, xs, ys) {
+export function encodeSnapshot (tick, visible, slotLimit, xs, ys, stride = 1, xOffset = 0, yOffset = 0) {
   let span = 0
   let count = 0
   for (let slot = 0; slot < slotLimit; slot++) {
@@ -58,9 +61,9 @@ export function encodeSnapshot (tick, visible, slotLimit, xs, ys) {
   for (let slot = 0; slot < span; slot++) {
     if (visible[slot] !== 1) continue
     buffer[HEADER_BYTES + (slot >> 3)] |= 1 << (slot & 7)
-    bits |= quantizePosition(xs[slot]) << bitCount
+    bits |= quantizePosition(xs[slot * stride + xOffset]) << bitCount
     bitCount += POSITION_BITS
-    bits |= quantizePosition(ys[slot]) << bitCount
+    bits |= quantizePosition(ys[slot * stride + yOffset]) << bitCount
     bitCount += POSITION_BITS
     while (bitCount >= 8) {
       buffer[offset++] = bits & 0xff

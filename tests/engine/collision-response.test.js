@@ -37,13 +37,13 @@ describe('collision response', () => {
     world.addStaticBox(0, 100, 200, 120, HARD_PLASTIC)
     const id = world.createCircle({ x: 100, y: 93, radius: 7, material: METAL })
     for (let i = 0; i < 120; i++) world.step()
-    const settledY = world.y[id]
+    const settledY = world.yOf(id)
     for (let i = 0; i < 6000; i++) world.step()
-    expect(world.y[id]).toBe(settledY)
-    expect(world.vx[id]).toBe(0)
-    expect(world.vy[id]).toBe(0)
+    expect(world.yOf(id)).toBe(settledY)
+    expect(world.vxOf(id)).toBe(0)
+    expect(world.vyOf(id)).toBe(0)
     // Resting depth stays within the slop plus one step of gravity.
-    const depth = world.y[id] + 7 - 100
+    const depth = world.yOf(id) + 7 - 100
     expect(depth).toBeGreaterThanOrEqual(0)
     expect(depth).toBeLessThan(LINEAR_SLOP + 980 / 3600)
   })
@@ -54,8 +54,8 @@ describe('collision response', () => {
       world.addStaticCircle(0, 0, 4, { restitution: e, friction: 0 })
       const id = world.createCircle({ x: -30, y: 0, vx: 600, radius: 7, material: { density: 1, restitution: 0, friction: 0 } })
       for (let i = 0; i < 30; i++) world.step()
-      expect(world.vx[id]).toBeCloseTo(-600 * e, 9)
-      expect(world.vy[id]).toBe(0)
+      expect(world.vxOf(id)).toBeCloseTo(-600 * e, 9)
+      expect(world.vyOf(id)).toBe(0)
     }
   })
 
@@ -65,8 +65,8 @@ describe('collision response', () => {
     const slow = RESTITUTION_THRESHOLD / 2
     const id = world.createCircle({ x: 0, y: -7 - slow / 60 / 2, vy: slow, radius: 7, material: bouncy })
     for (let i = 0; i < 3; i++) world.step()
-    expect(world.vy[id]).toBeCloseTo(0, 12) // stopped, not bounced back at e·v
-    expect(world.y[id]).toBeLessThan(-7 + LINEAR_SLOP + 1)
+    expect(world.vyOf(id)).toBeCloseTo(0, 12) // stopped, not bounced back at e·v
+    expect(world.yOf(id)).toBeLessThan(-7 + LINEAR_SLOP + 1)
   })
 
   it('exchanges momentum between equal balls in a head-on elastic collision', () => {
@@ -74,22 +74,22 @@ describe('collision response', () => {
     const a = world.createCircle({ x: 0, y: 0, vx: 300, radius: 7, material: bouncy })
     const b = world.createCircle({ x: 40, y: 0, vx: 0, radius: 7, material: bouncy })
     for (let i = 0; i < 30; i++) world.step()
-    expect(world.vx[a]).toBeCloseTo(0, 9)
-    expect(world.vx[b]).toBeCloseTo(300, 9)
+    expect(world.vxOf(a)).toBeCloseTo(0, 9)
+    expect(world.vxOf(b)).toBeCloseTo(300, 9)
   })
 
   it('conserves momentum in a glancing collision between free balls', () => {
     const world = new World({ gravityY: 0 })
     const a = world.createCircle({ x: 0, y: 0, vx: 300, vy: 10, radius: 7, material: METAL })
     const b = world.createCircle({ x: 40, y: 6, vx: -50, radius: 5, material: METAL })
-    const mass = (id) => 1 / world.inverseMass[id]
-    const px = () => mass(a) * world.vx[a] + mass(b) * world.vx[b]
-    const py = () => mass(a) * world.vy[a] + mass(b) * world.vy[b]
+    const mass = (id) => 1 / world.inverseMassOf(id)
+    const px = () => mass(a) * world.vxOf(a) + mass(b) * world.vxOf(b)
+    const py = () => mass(a) * world.vyOf(a) + mass(b) * world.vyOf(b)
     const before = [px(), py()]
     for (let i = 0; i < 30; i++) world.step()
     expect(px()).toBeCloseTo(before[0], 6)
     expect(py()).toBeCloseTo(before[1], 6)
-    expect(world.vy[b]).not.toBe(0) // they did collide
+    expect(world.vyOf(b)).not.toBe(0) // they did collide
   })
 
   it('applies Coulomb friction: a sliding ball picks up spin, bounded by μ·j', () => {
@@ -101,16 +101,16 @@ describe('collision response', () => {
       return { world, id }
     }
     const frictionless = make(0)
-    expect(frictionless.world.angularVelocity[frictionless.id]).toBe(0)
-    expect(frictionless.world.vx[frictionless.id]).toBe(200)
+    expect(frictionless.world.angularVelocityOf(frictionless.id)).toBe(0)
+    expect(frictionless.world.vxOf(frictionless.id)).toBe(200)
     const rough = make(0.2)
     // Normal impulse removes vy = 200 (per unit mass); friction may remove at most 0.2 * 200 of vx.
-    expect(rough.world.vx[rough.id]).toBeCloseTo(200 - 0.2 * 200, 9)
-    expect(rough.world.angularVelocity[rough.id]).not.toBe(0)
+    expect(rough.world.vxOf(rough.id)).toBeCloseTo(200 - 0.2 * 200, 9)
+    expect(rough.world.angularVelocityOf(rough.id)).not.toBe(0)
     const sticky = make(10)
     // With ample friction the contact point stops slipping: v = ω·r (rolling), reached in one impulse.
     const { world, id } = sticky
-    expect(world.vx[id] - world.angularVelocity[id] * 7).toBeCloseTo(0, 6)
+    expect(world.vxOf(id) - world.angularVelocityOf(id) * 7).toBeCloseTo(0, 6)
   })
 
   it('stops a fast ball on a wall segment and on a box face without passing through', () => {
@@ -120,10 +120,10 @@ describe('collision response', () => {
     const right = world.createCircle({ x: 0, y: 0, vx: 1500, radius: 7, material: dead, collidesWithBodies: false })
     const left = world.createCircle({ x: 0, y: 0, vx: -1500, radius: 7, material: dead, collidesWithBodies: false })
     for (let i = 0; i < 60; i++) world.step()
-    expect(world.x[right]).toBeLessThanOrEqual(100 - 7 + LINEAR_SLOP + 1e-9)
-    expect(world.x[right]).toBeGreaterThan(100 - 7 - 1)
-    expect(world.x[left]).toBeGreaterThanOrEqual(-150 + 7 - LINEAR_SLOP - 1e-9)
-    expect(world.x[left]).toBeLessThan(-150 + 7 + 1)
+    expect(world.xOf(right)).toBeLessThanOrEqual(100 - 7 + LINEAR_SLOP + 1e-9)
+    expect(world.xOf(right)).toBeGreaterThan(100 - 7 - 1)
+    expect(world.xOf(left)).toBeGreaterThanOrEqual(-150 + 7 - LINEAR_SLOP - 1e-9)
+    expect(world.xOf(left)).toBeLessThan(-150 + 7 + 1)
   })
 
   it('slides a ball around a box corner it grazes instead of stopping it', () => {
@@ -131,7 +131,7 @@ describe('collision response', () => {
     world.addStaticBox(-200, -10, -150, 10, dead)
     const id = world.createCircle({ x: 0, y: 12, vx: -1500, radius: 7, material: dead })
     for (let i = 0; i < 60; i++) world.step()
-    expect(world.y[id]).toBeGreaterThanOrEqual(10 + 7 - 1) // pushed below the box, never inside it
-    expect(world.vy[id]).toBeGreaterThan(0)
+    expect(world.yOf(id)).toBeGreaterThanOrEqual(10 + 7 - 1) // pushed below the box, never inside it
+    expect(world.vyOf(id)).toBeGreaterThan(0)
   })
 })

@@ -8,12 +8,12 @@ describe('semi-implicit Euler integration', () => {
     const id = world.createCircle({ x: 0, y: 0, vx: 10, radius: 25 })
     world.step()
     // v1 = v0 + g·dt = 60; y1 = y0 + v1·dt = 6 (explicit Euler would give 0)
-    expect(world.vy[id]).toBeCloseTo(60, 12)
-    expect(world.y[id]).toBeCloseTo(6, 12)
-    expect(world.x[id]).toBeCloseTo(1, 12)
+    expect(world.vyOf(id)).toBeCloseTo(60, 12)
+    expect(world.yOf(id)).toBeCloseTo(6, 12)
+    expect(world.xOf(id)).toBeCloseTo(1, 12)
     world.step()
-    expect(world.vy[id]).toBeCloseTo(120, 12)
-    expect(world.y[id]).toBeCloseTo(18, 12)
+    expect(world.vyOf(id)).toBeCloseTo(120, 12)
+    expect(world.yOf(id)).toBeCloseTo(18, 12)
   })
 
   it('matches the closed form of semi-implicit Euler over many steps in free fall', () => {
@@ -24,18 +24,18 @@ describe('semi-implicit Euler integration', () => {
     const dt = 1 / 60
     // Sub-steps split dt, so velocity still gains exactly g·dt per step and the
     // position stays within 1% of the continuous solution.
-    expect(world.vy[id]).toBeCloseTo(980 * dt * n, 6)
+    expect(world.vyOf(id)).toBeCloseTo(980 * dt * n, 6)
     const exact = 0.5 * 980 * (dt * n) ** 2
-    expect(Math.abs(world.y[id] - exact) / exact).toBeLessThan(0.01)
+    expect(Math.abs(world.yOf(id) - exact) / exact).toBeLessThan(0.01)
   })
 
   it('integrates the angle from the angular velocity and keeps it in [0, 2π)', () => {
     const world = new World({ gravityY: 0 })
     const id = world.createCircle({ x: 0, y: 0, radius: 5, angularVelocity: 30 })
     for (let i = 0; i < 60; i++) world.step()
-    expect(world.angle[id]).toBeGreaterThanOrEqual(0)
-    expect(world.angle[id]).toBeLessThan(2 * Math.PI)
-    expect(world.angle[id]).toBeCloseTo(30 % (2 * Math.PI), 6)
+    expect(world.angleOf(id)).toBeGreaterThanOrEqual(0)
+    expect(world.angleOf(id)).toBeLessThan(2 * Math.PI)
+    expect(world.angleOf(id)).toBeCloseTo(30 % (2 * Math.PI), 6)
   })
 
   it('rejects invalid bodies', () => {

@@ -17,7 +17,11 @@ function randomBodies (count, seed, spread) {
     radii[i] = 2 + random() * 10
     member[i] = random() < 0.9 ? 1 : 0
   }
-  return { xs, ys, radii, member }
+  // Interleaved as in World.state: x then y, every `stride` doubles.
+  const stride = 3
+  const positions = new Float64Array(count * stride)
+  for (let i = 0; i < count; i++) { positions[i * stride] = xs[i]; positions[i * stride + 1] = ys[i] }
+  return { xs, ys, radii, member, positions, stride }
 }
 
 function touchingPairsBruteForce ({ xs, ys, radii, member }) {
@@ -37,7 +41,7 @@ describe('SpatialHash (dynamic broad phase)', () => {
     it(`finds exactly the brute-force touching pairs (${count} bodies over ${spread} px)`, () => {
       const bodies = randomBodies(count, seed, spread)
       const hash = new SpatialHash({ cellSize: 25, capacity: 16 })
-      hash.rebuild(bodies.xs, bodies.ys, bodies.member, count)
+      hash.rebuild(bodies.positions, bodies.stride, bodies.member, count)
       const seen = new Set()
       const found = []
       hash.forEachCandidatePair(count, (i, j) => {
@@ -56,7 +60,7 @@ describe('SpatialHash (dynamic broad phase)', () => {
     const bodies = randomBodies(300, 'order', 300)
     const hash = new SpatialHash({ cellSize: 25, capacity: 300 })
     const run = () => {
-      hash.rebuild(bodies.xs, bodies.ys, bodies.member, 300)
+      hash.rebuild(bodies.positions, bodies.stride, bodies.member, 300)
       const order = []
       hash.forEachCandidatePair(300, (i, j) => order.push(i * 1000 + j))
       return order

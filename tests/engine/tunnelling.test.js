@@ -32,7 +32,7 @@ describe('no tunnelling', () => {
       for (let n = 0; n < 1000; n++) {
         const body = simulator.addDrop(createHmac('sha256', 'tunnel').update(`${rows}:${n}`).digest('hex'))
         for (;;) {
-          const x = world.x[body]; const y = world.y[body]
+          const x = world.xOf(body); const y = world.yOf(body)
           for (const peg of board.pegs) {
             const dx = x - peg.x; const dy = y - peg.y
             if (dx * dx + dy * dy < minPegGap * minPegGap) expect.fail(`drop ${rows}:${n} entered peg (${peg.x}, ${peg.y}) at tick ${simulator.ticksOf(body)}`)
@@ -42,7 +42,7 @@ describe('no tunnelling', () => {
               expect(insideDistance(board, wall, x, y)).toBeGreaterThan(board.ballRadius - 2)
             }
           }
-          fastest = Math.max(fastest, Math.sqrt(world.vx[body] ** 2 + world.vy[body] ** 2))
+          fastest = Math.max(fastest, Math.sqrt(world.vxOf(body) ** 2 + world.vyOf(body) ** 2))
           if (simulator.step().length > 0) break
         }
       }
@@ -62,8 +62,8 @@ describe('no tunnelling', () => {
         world.addStaticCircle(peg.x, peg.y, board.pegRadius, HARD_PLASTIC)
         const id = world.createCircle({ x: peg.x + offset, y: peg.y - 60 - phase, vy: speed, radius: board.ballRadius, material: METAL })
         for (let i = 0; i < 12; i++) world.step()
-        expect(world.vy[id]).toBeLessThan(0)
-        expect(world.y[id]).toBeLessThan(peg.y)
+        expect(world.vyOf(id)).toBeLessThan(0)
+        expect(world.yOf(id)).toBeLessThan(peg.y)
         }
       }
     }
@@ -86,9 +86,9 @@ describe('no tunnelling', () => {
         const id = world.createCircle({ x: px, y: py, vx: -nx * speed, vy: -ny * speed, radius: board.ballRadius, material: METAL })
         for (let i = 0; i < 20; i++) {
           world.step()
-          expect(insideDistance(board, wall, world.x[id], world.y[id])).toBeGreaterThan(0)
+          expect(insideDistance(board, wall, world.xOf(id), world.yOf(id))).toBeGreaterThan(0)
         }
-        expect(world.vx[id] * nx + world.vy[id] * ny).toBeGreaterThan(0) // moving away again
+        expect(world.vxOf(id) * nx + world.vyOf(id) * ny).toBeGreaterThan(0) // moving away again
       }
     }
   })
