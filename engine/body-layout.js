@@ -20,3 +20,5 @@ export const BODY_INVERSE_MASS = 10
 export const BODY_INVERSE_INERTIA = 11
 export const BODY_RESTITUTION = 12
 export const BODY_FRICTION = 13
+/** 1 while the body exists, 0 once destroyed (and for ids never used). */
+export const BODY_ALIVE = 14

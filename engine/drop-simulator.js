@@ -7,10 +7,10 @@ import { dropInitialConditions } from './drop-initial-conditions.js'
 export const MAX_DROP_TICKS = 3600
 /**
  * Static-grid cell (px) for boards: small cells keep the pegs a ball must
- * test per sub-step to about two. (The world's default is 50 px.) Any size
+ * test per sub-step to under two. (The world's default is 50 px.) Any size
  * gives the same outcomes: a cell lists every shape its balls can reach.
  */
-export const STATIC_CELL_SIZE = 8
+export const STATIC_CELL_SIZE = 6
 
 /**
  * @typedef {object} DropOutcome

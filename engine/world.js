@@ -7,7 +7,7 @@ import { StateHasher } from './state-hasher.js'
 import { METAL } from './materials.js'
 import {
   BODY_STRIDE, BODY_X, BODY_Y, BODY_VX, BODY_VY, BODY_ANGLE, BODY_SPIN, BODY_PREVIOUS_X, BODY_PREVIOUS_Y,
-  BODY_PREVIOUS_ANGLE, BODY_RADIUS, BODY_INVERSE_MASS, BODY_INVERSE_INERTIA, BODY_RESTITUTION, BODY_FRICTION
+  BODY_PREVIOUS_ANGLE, BODY_RADIUS, BODY_INVERSE_MASS, BODY_INVERSE_INERTIA, BODY_RESTITUTION, BODY_FRICTION, BODY_ALIVE
 } from './body-layout.js'
 
 export const DEFAULT_TIMESTEP = 1 / 60
@@ -25,7 +25,7 @@ const X = BODY_X; const Y = BODY_Y; const VX = BODY_VX; const VY = BODY_VY
 const ANGLE = BODY_ANGLE; const SPIN = BODY_SPIN
 const PREVIOUS_X = BODY_PREVIOUS_X; const PREVIOUS_Y = BODY_PREVIOUS_Y; const PREVIOUS_ANGLE = BODY_PREVIOUS_ANGLE
 const RADIUS = BODY_RADIUS; const INVERSE_MASS = BODY_INVERSE_MASS; const INVERSE_INERTIA = BODY_INVERSE_INERTIA
-const RESTITUTION = BODY_RESTITUTION; const FRICTION = BODY_FRICTION
+const RESTITUTION = BODY_RESTITUTION; const FRICTION = BODY_FRICTION; const ALIVE = BODY_ALIVE
 /** Floats per grid item in World._gridRecords: peg x, y, radius (-1: not a peg). */
 const GRID_RECORD = 3
 /** px: far above the rounding error of board coordinates, far below any distance that matters. */
@@ -132,7 +132,6 @@ export class World {
     if (old) state.set(old.state)
     this.state = state
     const u8 = (name) => { const a = new Uint8Array(capacity); if (old) a.set(old[name]); return a }
-    this.alive = u8('alive')
     this.collidesWithBodies = u8('collidesWithBodies')
     /** bodies _advanceBodies() hands to _advanceBody() this step */
     this._handedOver = new Int32Array(capacity)
@@ -232,7 +231,7 @@ export class World {
     st[b + INVERSE_INERTIA] = 2 / (mass * radius * radius)
     st[b + RESTITUTION] = material.restitution
     st[b + FRICTION] = material.friction
-    this.alive[id] = 1
+    st[b + ALIVE] = 1
     const pairs = def.collidesWithBodies ?? true
     this.collidesWithBodies[id] = pairs ? 1 : 0
     if (pairs) this._pairCount++
@@ -242,7 +241,7 @@ export class World {
   /** @param {number} id */
   destroyBody (id) {
     if (!this.isAlive(id)) throw new RangeError(`no body ${id}`)
-    this.alive[id] = 0
+    this.state[id * STRIDE + ALIVE] = 0
     if (this.collidesWithBodies[id] === 1) this._pairCount--
     this.collidesWithBodies[id] = 0
     // Free ids are kept in descending order, so the lowest comes back first:
@@ -255,12 +254,12 @@ export class World {
 
   /** @param {number} id */
   isAlive (id) {
-    return Number.isInteger(id) && id >= 0 && id < this.bodyCount && this.alive[id] === 1
+    return Number.isInteger(id) && id >= 0 && id < this.bodyCount && this.state[id * STRIDE + ALIVE] === 1
   }
 
   liveBodyCount () {
     let n = 0
-    for (let i = 0; i < this.bodyCount; i++) n += this.alive[i]
+    for (let i = 0; i < this.bodyCount; i++) n += this.state[i * STRIDE + ALIVE]
     return n
   }
 
@@ -316,12 +315,11 @@ export class World {
     const items = grid.items
     const records = this._gridRecords
     const shapeParams = this.statics.params
-    const alive = this.alive
     const st = this.state
     const handedOver = this._handedOver
     let handedOverCount = 0
     for (let i = 0, b = 0; i < count; i++, b += STRIDE) {
-      if (alive[i] !== 1) continue
+      if (st[b + ALIVE] !== 1) continue
       const x = st[b + X]; const y = st[b + Y]
       const angle0 = st[b + ANGLE]
       st[b + PREVIOUS_X] = x
@@ -527,7 +525,7 @@ export class World {
     const h = this._hasher.reset()
     h.addInt32(this.tick)
     for (let i = 0; i < this.bodyCount; i++) {
-      if (this.alive[i] !== 1) continue
+      if (this.state[i * STRIDE + ALIVE] !== 1) continue
       h.addInt32(i)
       this._hashBody(h, i)
     }
@@ -571,7 +569,7 @@ export class World {
   totalEnergy () {
     let energy = 0
     for (let i = 0; i < this.bodyCount; i++) {
-      if (this.alive[i] !== 1) continue
+      if (this.state[i * STRIDE + ALIVE] !== 1) continue
       const b = i * STRIDE
       const st = this.state
       const m = 1 / st[b + INVERSE_MASS]
