@@ -17,7 +17,8 @@ import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import WebSocket from 'ws'
 import { startPostgres } from '../tests/server/helpers/postgres.js'
-import { startRedis, freePort } from '../tests/cluster/helpers/cluster.js'
+import { freePort } from '../scripts/free-port.js'
+import { startRedis } from '../scripts/redis-process.js'
 import { ROOM_IDS } from '../server/rooms/room-id.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')

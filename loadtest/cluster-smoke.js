@@ -16,9 +16,9 @@ import { spawn } from 'node:child_process'
 import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
-import pg from 'pg'
 import { startPostgres } from '../tests/server/helpers/postgres.js'
-import { freePort } from '../tests/cluster/helpers/cluster.js'
+import { query, ledgerMismatches } from '../tests/cluster/helpers/cluster.js'
+import { freePort } from '../scripts/free-port.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const STARTING_BALANCE = 100000
@@ -103,14 +103,7 @@ async function waitForWorkers (base, count) {
 }
 
 async function checkLedger (url) {
-  const client = new pg.Client({ connectionString: url })
-  await client.connect()
-  try {
-    const { rows: [counts] } = await client.query("SELECT count(*) AS drops, count(*) FILTER (WHERE status <> 'settled') AS unsettled FROM drops")
-    const { rows: mismatches } = await client.query(`SELECT p.id FROM players p LEFT JOIN drops d ON d.player_id = p.id
-      GROUP BY p.id, p.balance HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [STARTING_BALANCE])
-    return { drops: Number(counts.drops), unsettled: Number(counts.unsettled), mismatches: mismatches.length }
-  } finally {
-    await client.end()
-  }
+  const [counts] = await query(url, "SELECT count(*) AS drops, count(*) FILTER (WHERE status <> 'settled') AS unsettled FROM drops")
+  const mismatches = await ledgerMismatches(url, STARTING_BALANCE)
+  return { drops: Number(counts.drops), unsettled: Number(counts.unsettled), mismatches: mismatches.length }
 }

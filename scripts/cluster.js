@@ -12,13 +12,12 @@
  * others meanwhile, after LEASE_TTL_MS). Ctrl-C stops everything gracefully.
  */
 import { spawn } from 'node:child_process'
-import fs from 'node:fs'
-import net from 'node:net'
 import os from 'node:os'
 import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import { createProxy } from '../server/cluster/proxy.js'
+import { startRedis } from './redis-process.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const { values } = parseArgs({
@@ -82,26 +81,6 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
     if (redis) await redis.stop()
     process.exit(0)
   })
-}
-
-async function startRedis () {
-  const redisPort = await new Promise((resolve, reject) => {
-    const server = net.createServer().listen(0, '127.0.0.1', () => { const p = server.address().port; server.close(() => resolve(p)) }).on('error', reject)
-  })
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-cluster-redis-'))
-  const binary = process.env.REDIS_SERVER ?? (fs.existsSync('/usr/bin/redis-server') ? '/usr/bin/redis-server' : 'redis-server')
-  const child = spawn(binary, ['--port', String(redisPort), '--bind', '127.0.0.1', '--save', '', '--appendonly', 'no', '--dir', dir], { stdio: ['ignore', 'pipe', 'inherit'] })
-  await new Promise((resolve, reject) => {
-    let output = ''
-    child.stdout.on('data', (chunk) => { output += chunk; if (/Ready to accept connections/.test(output)) resolve() })
-    child.once('error', (error) => reject(new Error(`cannot start ${binary} (install redis-server or set REDIS_URL): ${error.message}`)))
-    child.once('exit', () => reject(new Error(`redis-server exited:\n${output}`)))
-  })
-  process.once('exit', () => { try { child.kill('SIGKILL') } catch {} })
-  return {
-    url: `redis://127.0.0.1:${redisPort}`,
-    stop: () => new Promise((resolve) => { child.once('exit', () => { fs.rmSync(dir, { recursive: true, force: true }); resolve() }); child.kill('SIGTERM') })
-  }
 }
 
 function fail (message) {

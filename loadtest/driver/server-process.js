@@ -1,26 +1,16 @@
 import fs from 'node:fs'
-import net from 'node:net'
 import path from 'node:path'
 import { spawn } from 'node:child_process'
 import { randomBytes } from 'node:crypto'
 import { fileURLToPath } from 'node:url'
+import { freePort } from '../../scripts/free-port.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..')
 const SERVER_ENTRY = path.join(ROOT, 'server', 'server.js')
 const READY_TIMEOUT_MS = 60_000
 const STOP_TIMEOUT_MS = 60_000
 
-/** A free TCP port on loopback (the OS picks it). */
-export function freePort () {
-  return new Promise((resolve, reject) => {
-    const probe = net.createServer()
-    probe.once('error', reject)
-    probe.listen(0, '127.0.0.1', () => {
-      const { port } = probe.address()
-      probe.close(() => resolve(port))
-    })
-  })
-}
+export { freePort }
 
 /**
  * Starts the game server (server/server.js) as a child process on

@@ -1,58 +1,16 @@
 import { spawn } from 'node:child_process'
-import fs from 'node:fs'
-import net from 'node:net'
-import os from 'node:os'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import pg from 'pg'
+import { freePort } from '../../../scripts/free-port.js'
+import { eventually as pollUntil } from '../../helpers/eventually.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../..')
 export const OPERATOR_TOKEN = 'operator-token-for-cluster-tests-0123'
 
-export function freePort () {
-  return new Promise((resolve, reject) => {
-    const server = net.createServer()
-    server.unref()
-    server.on('error', reject)
-    server.listen(0, '127.0.0.1', () => {
-      const { port } = server.address()
-      server.close(() => resolve(port))
-    })
-  })
-}
-
-/**
- * A throwaway redis-server on a free loopback port, no persistence.
- * REDIS_SERVER picks the binary (default: redis-server on PATH, else /usr/bin/redis-server).
- */
-export async function startRedis () {
-  const port = await freePort()
-  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-redis-'))
-  const binary = process.env.REDIS_SERVER ?? (fs.existsSync('/usr/bin/redis-server') ? '/usr/bin/redis-server' : 'redis-server')
-  const child = spawn(binary, ['--port', String(port), '--bind', '127.0.0.1', '--save', '', '--appendonly', 'no', '--dir', dir], { stdio: ['ignore', 'pipe', 'pipe'] })
-  const kill = () => { try { child.kill('SIGKILL') } catch {} }
-  process.once('exit', kill)
-  let output = ''
-  await new Promise((resolve, reject) => {
-    const onData = (chunk) => {
-      output += chunk
-      if (/Ready to accept connections/.test(output)) resolve()
-    }
-    child.stdout.on('data', onData)
-    child.stderr.on('data', onData)
-    child.once('exit', () => reject(new Error(`redis-server exited:\n${output}`)))
-  })
-  return {
-    url: `redis://127.0.0.1:${port}`,
-    async stop () {
-      process.removeListener('exit', kill)
-      const exited = new Promise((resolve) => child.once('exit', resolve))
-      child.kill('SIGTERM')
-      await exited
-      fs.rmSync(dir, { recursive: true, force: true })
-    }
-  }
-}
+// One launcher each for the whole project (npm run cluster uses them too).
+export { freePort } from '../../../scripts/free-port.js'
+export { startRedis } from '../../../scripts/redis-process.js'
 
 /**
  * `node server/server.js` as a cluster member on a free port, its PUBLIC_URL
@@ -143,12 +101,7 @@ export async function ledgerMismatches (url, startingBalance) {
     HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [startingBalance])
 }
 
-export async function eventually (check, { timeoutMs = 30_000, intervalMs = 50 } = {}) {
-  const deadline = Date.now() + timeoutMs
-  for (;;) {
-    const value = await check()
-    if (value) return value
-    if (Date.now() > deadline) throw new Error('condition not met in time')
-    await new Promise((resolve) => setTimeout(resolve, intervalMs))
-  }
+/** The server tests' eventually(), polling every 50 ms: these checks query PostgreSQL. */
+export function eventually (check, { timeoutMs = 30_000, intervalMs = 50 } = {}) {
+  return pollUntil(check, { timeoutMs, intervalMs })
 }

@@ -79,16 +79,7 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
   }
 }
 
-/** Polls `check` until it returns a truthy value. */
-export async function eventually (check, { timeoutMs = 30_000, intervalMs = 20 } = {}) {
-  const deadline = Date.now() + timeoutMs
-  for (;;) {
-    const value = await check()
-    if (value) return value
-    if (Date.now() > deadline) throw new Error('condition not met in time')
-    await new Promise((resolve) => setTimeout(resolve, intervalMs))
-  }
-}
+export { eventually } from '../../helpers/eventually.js'
 
 /**
  * Registers hooks that give the enclosing describe block a fresh database
