@@ -8,9 +8,8 @@
  *
  * Settings: see k6-lib/scenario-config.js. Usually run through `npm run loadtest`.
  */
-import exec from 'k6/execution'
 import { readScenarioConfig, playerScenarioOptions } from './k6-lib/scenario-config.js'
-import { chooseRooms, playPlayer } from './k6-lib/player.js'
+import { chooseRooms, playScheduledPlayer } from './k6-lib/player.js'
 
 const config = readScenarioConfig({ duration: '60s', ramp: '10s' })
 
@@ -21,10 +20,5 @@ export function setup () {
 }
 
 export default function ({ rooms }) {
-  const index = exec.vu.idInTest - 1
-  const rampMs = config.rampS * 1000
-  playPlayer(config, rooms[index % rooms.length], {
-    connectAtMs: (index / config.vus) * rampMs,
-    leaveAtMs: rampMs + config.durationS * 1000
-  })
+  playScheduledPlayer(config, rooms)
 }

@@ -6,9 +6,8 @@
  *
  *   k6 run -e VUS=1000 -e DURATION=10m loadtest/soak.js
  */
-import exec from 'k6/execution'
 import { readScenarioConfig, playerScenarioOptions } from './k6-lib/scenario-config.js'
-import { chooseRooms, playPlayer } from './k6-lib/player.js'
+import { chooseRooms, playScheduledPlayer } from './k6-lib/player.js'
 
 const config = readScenarioConfig({ duration: '10m', ramp: '30s', vus: 500 })
 
@@ -19,10 +18,5 @@ export function setup () {
 }
 
 export default function ({ rooms }) {
-  const index = exec.vu.idInTest - 1
-  const rampMs = config.rampS * 1000
-  playPlayer(config, rooms[index % rooms.length], {
-    connectAtMs: (index / config.vus) * rampMs,
-    leaveAtMs: rampMs + config.durationS * 1000
-  })
+  playScheduledPlayer(config, rooms)
 }

@@ -5,9 +5,8 @@
  *
  *   k6 run -e VUS=2000 -e RAMP=5s -e DURATION=20s loadtest/spike.js
  */
-import exec from 'k6/execution'
 import { readScenarioConfig, playerScenarioOptions } from './k6-lib/scenario-config.js'
-import { chooseRooms, playPlayer } from './k6-lib/player.js'
+import { chooseRooms, playScheduledPlayer } from './k6-lib/player.js'
 
 const config = readScenarioConfig({ duration: '20s', ramp: '5s', leave: '5s' })
 
@@ -18,10 +17,5 @@ export function setup () {
 }
 
 export default function ({ rooms }) {
-  const index = exec.vu.idInTest - 1
-  const rampMs = config.rampS * 1000
-  playPlayer(config, rooms[index % rooms.length], {
-    connectAtMs: (index / config.vus) * rampMs,
-    leaveAtMs: rampMs + config.durationS * 1000 + (index / config.vus) * config.leaveS * 1000
-  })
+  playScheduledPlayer(config, rooms)
 }

@@ -52,6 +52,23 @@ export function chooseRooms (baseUrl, count) {
 }
 
 /**
+ * The scenarios' player: virtual user i plays in room i mod rooms, connects
+ * at its share of RAMP, and leaves after DURATION at its share of LEAVE
+ * (0 s unless a scenario spreads the leaving, as spike.js does).
+ * @param {ReturnType<import('./scenario-config.js').readScenarioConfig>} config
+ * @param {string[]} rooms from chooseRooms(), in setup()
+ */
+export function playScheduledPlayer (config, rooms) {
+  const index = exec.vu.idInTest - 1
+  const share = index / config.vus
+  const rampMs = config.rampS * 1000
+  playPlayer(config, rooms[index % rooms.length], {
+    connectAtMs: share * rampMs,
+    leaveAtMs: rampMs + config.durationS * 1000 + share * config.leaveS * 1000
+  })
+}
+
+/**
  * Plays one player from `connectAtMs` to `leaveAtMs` (ms after the scenario
  * started), then waits up to `config.drainS` for its last settles.
  * @param {ReturnType<import('./scenario-config.js').readScenarioConfig>} config

@@ -9,7 +9,7 @@
  *   VUS             50                       virtual players
  *   DURATION        60s                      steady phase: every player connected and dropping
  *   RAMP            10s                      players connect spread over this time
- *   LEAVE           0s                       players leave spread over this time (spike)
+ *   LEAVE           0s                       players leave spread over this time (spike.js: 5s)
  *   ROOMS           10                       rooms the players are spread over (player i → room i mod ROOMS)
  *   DROP_INTERVAL   2s                       each player drops one ball this often (0: never)
  *   BET             10                       credits per drop
