@@ -363,7 +363,7 @@ export class Arena {
 
   /** A room's queued events on their own, as `{type:"events"}`: no snapshot goes with them. */
   _sendEvents (room, events) {
-    const text = `{"type":"events","room":${JSON.stringify(room.id)},"events":${events}}`
+    const text = room.eventsMessage(events)
     for (const client of room.clients) client.sendEvent(text, 'events')
   }
 

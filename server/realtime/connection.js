@@ -175,7 +175,7 @@ export class Connection {
     if (this.closed) return
     if (events !== null && this.socket.bufferedAmount > this.softLimit && this.socket.bufferedAmount <= this.hardLimit) {
       this.metrics.snapshotsSkipped.inc()
-      this.sendEvent(`{"type":"events","room":${JSON.stringify(this.room?.id ?? null)},"events":${events}}`, 'events')
+      this.sendEvent(this.room.eventsMessage(events), 'events')
       return
     }
     this.sendSnapshot(frame)

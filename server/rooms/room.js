@@ -46,6 +46,11 @@ export class Room {
     if (this.clients.size > 0) this.pendingEvents.push(text)
   }
 
+  /** The `events` message (JSON text) carrying `events`, a JSON array from takeEvents(). @param {string} events */
+  eventsMessage (events) {
+    return `{"type":"events","room":${JSON.stringify(this.id)},"events":${events}}`
+  }
+
   /** The queued events as one JSON array text, or null if none; clears the queue. */
   takeEvents () {
     if (this.pendingEvents.length === 0) return null
