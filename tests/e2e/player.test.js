@@ -216,7 +216,8 @@ describe('player page in Chromium', () => {
     await page.routeWebSocket(/\/ws\?/, (ws) => {
       const upstream = ws.connectToServer()
       upstream.onMessage((message) => {
-        if (typeof message === 'string' && message.includes('"type":"settled"')) {
+        // Only the player's own `settled` (the room's `events` messages carry settled events inside).
+        if (typeof message === 'string' && message.startsWith('{"type":"settled"')) {
           const settled = JSON.parse(message)
           settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
           message = JSON.stringify(settled)
