@@ -21,7 +21,7 @@
  */
 import { readFileSync } from 'node:fs'
 import os from 'node:os'
-import { ENGINE_VERSION, simulateDrop } from '../engine/index.js'
+import { ENGINE_VERSION, ENGINE_VERSIONS, simulateDrop } from '../engine/index.js'
 import { dropSeedSync } from '../cli/drop-seeds.js'
 import { SCENE, BALL_MATERIAL, PEG_MATERIAL, BENCH_SERVER_SEED, BENCH_CLIENT_SEED, benchDropSeeds, startTable, sceneBoard } from './plinko-scene.js'
 import { OursScene, OursServerScene } from './scene-ours.js'
@@ -97,7 +97,7 @@ export async function runEngineBenchmarks ({ quick = false, log = console.log } 
   const environment = describeEnvironment()
   log(`Engine benchmarks${quick ? ' (--quick: short run, figures are rough)' : ''}`)
   log(`Node ${environment.node} (V8 ${environment.v8}), ${environment.platform}, ${environment.cpu} × ${environment.cores}, load average ${environment.loadAverage}`)
-  log(`engine ${ENGINE_VERSION}, matter-js ${MATTER_VERSION}, planck ${PLANCK_VERSION}`)
+  log(`engine ${ENGINE_VERSION} (scenes; single drops under every version: ${ENGINE_VERSIONS.join(', ')}), matter-js ${MATTER_VERSION}, planck ${PLANCK_VERSION}`)
   log('')
   const scene = benchScene(run, gc, log)
   log('')
@@ -138,7 +138,7 @@ function benchScene (run, gc, log) {
 
   const surface = `restitution ${mixRestitution(BALL_MATERIAL.restitution, PEG_MATERIAL.restitution)}, friction ${fixed(mixFriction(BALL_MATERIAL.friction, PEG_MATERIAL.friction), 3)}`
   log(`== 1. 100-ball scene: time per step (${SCENE.rows} rows) ==`)
-  log(`Board createBoard({ rows: ${SCENE.rows}, risk: '${SCENE.risk}' }): ${board.pegs.length} static pegs (r ${board.pegRadius} px), ${board.walls.length} static walls;`)
+  log(`Board createBoard({ rows: ${SCENE.rows}, risk: '${SCENE.risk}', engineVersion: '${SCENE.engineVersion}' }): ${board.pegs.length} static pegs (r ${board.pegRadius} px), ${board.walls.length} static walls;`)
   log(`${SCENE.balls} dynamic balls (r ${board.ballRadius} px) in flight, released ${SCENE.releaseEvery} ticks apart from the drop zone, respawned at the top`)
   log(`once past the bucket line (y > ${board.bucketLineY} px) or after ${SCENE.maxTicks} ticks. Starts from dropInitialConditions() of ${int(run.sceneStarts)} HMAC drop seeds, same order in every engine.`)
   log(`Step 1/60 s everywhere; gravity ${SCENE.gravity} px/s² (planck: ${SCENE.gravity / SCENE.pixelsPerMetre} m/s², 1 m = ${SCENE.pixelsPerMetre} px); ball on peg/wall: ${surface}.`)
@@ -208,16 +208,27 @@ async function benchAllocation (run, gc, log) {
 function benchDrops (run, gc, log) {
   const figures = []
   for (const rows of run.dropRows) {
-    const board = sceneBoard(rows)
     const seeds = benchDropSeeds(run.drops)
     const warmupSeeds = benchDropSeeds(run.dropWarmup, 1_000_000)
+    // Older versions' boards first: drops they decided still re-simulate (audits, verification).
+    for (const version of ENGINE_VERSIONS.filter((v) => v !== ENGINE_VERSION)) {
+      const old = sceneBoard(rows, version)
+      for (const seed of warmupSeeds) simulateDrop(old, seed)
+      if (gc) gc()
+      let oldTicks = 0
+      const oldMs = timeMs(() => {
+        for (let i = 0; i < seeds.length; i++) oldTicks += simulateDrop(old, seeds[i]).ticks
+      })
+      figures.push({ rows, engine: `ours simulateDrop, engine ${version}`, peer: false, drops: seeds.length, dropsPerSecond: seeds.length / oldMs * 1000, ticksPerDrop: oldTicks / seeds.length, goal: GOALS.dropsPerSecond })
+    }
+    const board = sceneBoard(rows)
     for (const seed of warmupSeeds) simulateDrop(board, seed)
     if (gc) gc()
     let ticks = 0
     let ms = timeMs(() => {
       for (let i = 0; i < seeds.length; i++) ticks += simulateDrop(board, seeds[i]).ticks
     })
-    figures.push({ rows, engine: 'ours simulateDrop(board, seed)', peer: false, drops: seeds.length, dropsPerSecond: seeds.length / ms * 1000, ticksPerDrop: ticks / seeds.length, goal: GOALS.dropsPerSecond })
+    figures.push({ rows, engine: `ours simulateDrop(board, seed), engine ${ENGINE_VERSION}`, newest: true, peer: false, drops: seeds.length, dropsPerSecond: seeds.length / ms * 1000, ticksPerDrop: ticks / seeds.length, goal: GOALS.dropsPerSecond })
 
     if (gc) gc()
     ticks = 0
@@ -238,7 +249,7 @@ function benchDrops (run, gc, log) {
     }
   }
   for (const f of figures) {
-    const ours = figures.find((o) => o.rows === f.rows)
+    const ours = figures.find((o) => o.rows === f.rows && o.newest)
     f.oursFasterBy = f.peer ? ours.dropsPerSecond / f.dropsPerSecond : null
   }
 

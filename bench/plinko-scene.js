@@ -9,10 +9,12 @@
  * spin), drawn by the engine's own dropInitialConditions() from drop seeds
  * derived as in production (HMAC-SHA256), in the same order.
  */
-import { createBoard, dropInitialConditions, MAX_DROP_TICKS, METAL, HARD_PLASTIC } from '../engine/index.js'
+import { createBoard, dropInitialConditions, engineRules, ENGINE_VERSION } from '../engine/index.js'
 import { dropSeedSync } from '../cli/drop-seeds.js'
 
 export const SCENE = Object.freeze({
+  /** the board, materials and tick limit of the newest engine version */
+  engineVersion: ENGINE_VERSION,
   rows: 16,
   risk: 'medium',
   /** balls in flight once all are released */
@@ -24,14 +26,14 @@ export const SCENE = Object.freeze({
   /** px/s², downwards */
   gravity: 980,
   /** a ball still in flight after this many ticks is respawned, as DropSimulator lands it */
-  maxTicks: MAX_DROP_TICKS,
+  maxTicks: engineRules(ENGINE_VERSION).maxDropTicks,
   /** planck works in metres: 1 m = 100 px, so the ball is 0.07 m and gravity 9.8 m/s² */
   pixelsPerMetre: 100
 })
 
-/** Materials of our engine; the peers get the same values (see the scene files for how each mixes them). */
-export const BALL_MATERIAL = METAL
-export const PEG_MATERIAL = HARD_PLASTIC
+/** Materials of the scene's engine version; the peers get the same values (see the scene files for how each mixes them). */
+export const BALL_MATERIAL = engineRules(ENGINE_VERSION).ballMaterial
+export const PEG_MATERIAL = engineRules(ENGINE_VERSION).pegMaterial
 
 export const BENCH_SERVER_SEED = 'plinko-bench-server-seed'
 export const BENCH_CLIENT_SEED = 'plinko-bench-client-seed'
@@ -63,9 +65,9 @@ export function startTable (board, seeds) {
   return table
 }
 
-/** @param {number} [rows] */
-export function sceneBoard (rows = SCENE.rows) {
-  return createBoard({ rows, risk: SCENE.risk })
+/** @param {number} [rows] @param {string} [engineVersion] */
+export function sceneBoard (rows = SCENE.rows, engineVersion = SCENE.engineVersion) {
+  return createBoard({ rows, risk: SCENE.risk, engineVersion })
 }
 
 /**

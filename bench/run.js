@@ -1,10 +1,11 @@
 #!/usr/bin/env node
 /**
- * `npm run bench` (node bench/run.js [--quick]).
+ * `npm run bench` (node bench/run.js [--quick] [--only engine|game|server]).
  *
  * Runs the engine benchmarks (engine-bench.js: our engine, matter-js and
  * planck, in this one process so the peers are measured in the same run),
- * then the server benchmarks bench/server-ticks.js and
+ * the game figures of every engine version (game-figures.js: distribution,
+ * volatility, fall, RTP), then the server benchmarks bench/server-ticks.js and
  * bench/server-snapshots.js when they exist, each as a child process
  * `node --expose-gc <file> [--quick]` whose output is passed through
  * (stopped after SERVER_BENCH_TIMEOUT_S, so a hung bench cannot hang the run).
@@ -18,34 +19,44 @@
 import { spawnSync } from 'node:child_process'
 import { existsSync } from 'node:fs'
 import { fileURLToPath } from 'node:url'
+import { parseArgs } from 'node:util'
 import { runEngineBenchmarks } from './engine-bench.js'
+import { runGameFigures } from './game-figures.js'
 
 const SERVER_BENCHES = ['server-ticks.js', 'server-snapshots.js']
 /** A server bench that runs longer than this is stopped (SIGTERM) and reported as failed, so `npm run bench` never hangs. */
 const SERVER_BENCH_TIMEOUT_S = { quick: 180, full: 900 }
-const USAGE = 'usage: node bench/run.js [--quick]'
+const USAGE = 'usage: node bench/run.js [--quick] [--only engine|game|server]'
+const PARTS = ['engine', 'game', 'server']
 
 const args = process.argv.slice(2)
-for (const arg of args) {
-  if (arg === '--help' || arg === '-h') {
-    console.log(USAGE)
-    process.exit(0)
-  }
-  if (arg !== '--quick') {
-    console.error(`unknown argument ${arg}\n${USAGE}`)
-    process.exit(2)
-  }
+let options
+try {
+  options = parseArgs({ args, options: { quick: { type: 'boolean' }, only: { type: 'string' }, help: { type: 'boolean', short: 'h' } } }).values
+  if (options.only !== undefined && !PARTS.includes(options.only)) throw new Error(`--only must be one of ${PARTS.join(', ')}`)
+} catch (error) {
+  console.error(`${error.message}\n${USAGE}`)
+  process.exit(2)
 }
-const quick = args.includes('--quick')
+if (options.help) {
+  console.log(USAGE)
+  process.exit(0)
+}
+const quick = Boolean(options.quick)
+const runs = (part) => options.only === undefined || options.only === part
 
 if (typeof globalThis.gc !== 'function') {
   const child = spawnSync(process.execPath, ['--expose-gc', ...process.execArgv, fileURLToPath(import.meta.url), ...args], { stdio: 'inherit' })
   process.exit(child.status ?? 1)
 }
 
-await runEngineBenchmarks({ quick })
+if (runs('engine')) await runEngineBenchmarks({ quick })
+if (runs('game')) {
+  console.log('')
+  await runGameFigures({ quick })
+}
 
-for (const file of SERVER_BENCHES) {
+for (const file of runs('server') ? SERVER_BENCHES : []) {
   const path = fileURLToPath(new URL(file, import.meta.url))
   console.log('')
   if (!existsSync(path)) {

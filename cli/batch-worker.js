@@ -5,8 +5,8 @@ import { dropSeedSync } from './drop-seeds.js'
 
 // Simulates nonces [from, to) and reports bucket counts, with progress
 // messages every `progressEvery` drops.
-const { rows, serverSeed, clientSeed, from, to, progressEvery } = workerData
-const board = createBoard({ rows, risk: 'medium' })
+const { rows, engineVersion, serverSeed, clientSeed, from, to, progressEvery } = workerData
+const board = createBoard({ rows, risk: 'medium', engineVersion })
 const counts = new Array(rows + 1).fill(0)
 let ticks = 0
 let maxTicks = 0

@@ -1,7 +1,7 @@
 import { parseArgs } from 'node:util'
 import { UsageError } from './usage-error.js'
-import { MIN_ROWS, MAX_ROWS } from '../engine/board.js'
-import { RISKS } from '../engine/multipliers.js'
+import { MIN_ROWS, MAX_ROWS, RISKS } from '../engine/board.js'
+import { ENGINE_VERSION, ENGINE_VERSIONS, isEngineVersion } from '../engine/version.js'
 
 /**
  * Parses argv against `options` (node:util parseArgs), turning its errors
@@ -39,4 +39,11 @@ export function riskOption (text) {
 export function requiredString (text, name) {
   if (text === undefined || text === '') throw new UsageError(`--${name} is required`)
   return text
+}
+
+/** --engine-version: one of the shipped versions, default the newest. */
+export function engineVersionOption (text) {
+  const version = text ?? ENGINE_VERSION
+  if (!isEngineVersion(version)) throw new UsageError(`--engine-version must be one of ${ENGINE_VERSIONS.join(', ')}, got "${version}"`)
+  return version
 }

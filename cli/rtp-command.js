@@ -2,16 +2,15 @@ import { randomBytes } from 'node:crypto'
 import { writeFileSync } from 'node:fs'
 import { availableParallelism } from 'node:os'
 import { createBoard } from '../engine/board.js'
-import { CALIBRATION } from '../engine/multipliers.js'
 import { rtpStatistics } from '../engine/rtp-statistics.js'
-import { ENGINE_VERSION } from '../engine/version.js'
+import { calibrationOf } from '../engine/calibration.js'
 import { simulateBatch } from './simulate-batch.js'
 import { ProgressBar } from './progress-bar.js'
 import { distributionChartSvg } from './distribution-chart.js'
-import { symmetrize } from './calibration.js'
-import { parseOptions, integerOption, rowsOption, riskOption } from './options.js'
+import { symmetrize } from './table-design.js'
+import { parseOptions, integerOption, rowsOption, riskOption, engineVersionOption } from './options.js'
 
-export const rtpUsage = 'plinko rtp [--rows 16] [--risk medium] [--drops 1000000] [--server-seed S] [--client-seed C] [--workers N] [--chart FILE.svg] [--json]'
+export const rtpUsage = 'plinko rtp [--rows 16] [--risk medium] [--engine-version V] [--drops 1000000] [--server-seed S] [--client-seed C] [--workers N] [--chart FILE.svg] [--json]'
 
 /**
  * Simulates many drops (nonces 0..drops-1 of one server/client seed pair),
@@ -27,7 +26,8 @@ export async function rtpCommand (argv, out, err) {
     'client-seed': { type: 'string' },
     workers: { type: 'string' },
     chart: { type: 'string' },
-    json: { type: 'boolean' }
+    json: { type: 'boolean' },
+    'engine-version': { type: 'string' }
   })
   const rows = rowsOption(options.rows)
   const risk = riskOption(options.risk)
@@ -36,14 +36,16 @@ export async function rtpCommand (argv, out, err) {
   const serverSeed = options['server-seed'] || randomBytes(32).toString('hex')
   const clientSeed = options['client-seed'] ?? 'rtp'
   const chartPath = options.chart ?? `plinko-rtp-${rows}-${risk}.svg`
-  const board = createBoard({ rows, risk })
+  const engineVersion = engineVersionOption(options['engine-version'])
+  const board = createBoard({ rows, risk, engineVersion })
+  const calibration = calibrationOf(rows, engineVersion)
 
   const progress = new ProgressBar(drops, err, `simulating ${rows} rows`)
-  const result = await simulateBatch({ rows, drops, serverSeed, clientSeed, workers, onProgress: (done) => progress.update(done) })
+  const result = await simulateBatch({ rows, engineVersion, drops, serverSeed, clientSeed, workers, onProgress: (done) => progress.update(done) })
   progress.finish()
 
   const stats = rtpStatistics(result.counts, board.multipliers)
-  const calibratedCounts = CALIBRATION.bucketCounts[rows]
+  const calibratedCounts = calibration?.bucketCounts
   const expected = calibratedCounts ? symmetrize(calibratedCounts) : undefined
   writeFileSync(chartPath, distributionChartSvg({
     title: `Plinko ${rows} rows, ${risk} risk: ${drops} drops, RTP ${(stats.rtp * 100).toFixed(3)}%`,
@@ -53,7 +55,7 @@ export async function rtpCommand (argv, out, err) {
   }))
 
   const summary = {
-    engineVersion: ENGINE_VERSION,
+    engineVersion,
     rows,
     risk,
     drops,
@@ -64,7 +66,7 @@ export async function rtpCommand (argv, out, err) {
     rtp: stats.rtp,
     standardError: stats.standardError,
     ci95: stats.ci95,
-    calibratedRtp: CALIBRATION.rtp[rows]?.[risk],
+    calibratedRtp: calibration?.rtp[risk],
     meanTicks: result.meanTicks,
     maxTicks: result.maxTicks,
     seconds: result.seconds,
@@ -78,7 +80,7 @@ export async function rtpCommand (argv, out, err) {
   }
   const percent = (x) => (x * 100).toFixed(3) + '%'
   const lines = []
-  lines.push(`engine ${ENGINE_VERSION} · ${rows} rows · ${risk} risk · ${drops} drops · server seed ${serverSeed} · client seed ${clientSeed}`)
+  lines.push(`engine ${engineVersion} · ${rows} rows · ${risk} risk · ${drops} drops · server seed ${serverSeed} · client seed ${clientSeed}`)
   lines.push('')
   lines.push('bucket  multiplier       drops     share  calibrated')
   result.counts.forEach((count, i) => {
@@ -86,7 +88,7 @@ export async function rtpCommand (argv, out, err) {
   })
   lines.push('')
   lines.push(`RTP ${percent(stats.rtp)} (95% CI ${percent(stats.ci95[0])} – ${percent(stats.ci95[1])}, standard error ${percent(stats.standardError)})`)
-  if (summary.calibratedRtp !== undefined) lines.push(`calibrated RTP ${percent(summary.calibratedRtp)} on ${CALIBRATION.drops} calibration drops`)
+  if (summary.calibratedRtp !== undefined) lines.push(`calibrated RTP ${percent(summary.calibratedRtp)} on ${calibration.drops} calibration drops`)
   lines.push(`${result.seconds.toFixed(1)} s on ${workers} worker(s): ${Math.round(summary.dropsPerSecond)} drops/s, mean ${result.meanTicks.toFixed(1)} ticks (${(result.meanTicks / 60).toFixed(2)} s) per drop, longest ${result.maxTicks}`)
   lines.push(`chart written to ${chartPath}`)
   out.write(lines.join('\n') + '\n')

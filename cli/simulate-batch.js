@@ -2,16 +2,18 @@ import { Worker } from 'node:worker_threads'
 import { availableParallelism } from 'node:os'
 
 /**
- * Simulates drops for nonces 0..drops-1 on `workers` threads and returns the
+ * Simulates drops for nonces firstNonce..firstNonce+drops-1 on `workers` threads and returns the
  * bucket counts (the bucket distribution does not depend on risk).
  * @param {object} options
  * @param {number} options.rows @param {number} options.drops
+ * @param {string} [options.engineVersion] default the newest
+ * @param {number} [options.firstNonce] default 0
  * @param {string} options.serverSeed @param {string} options.clientSeed
  * @param {number} [options.workers]
  * @param {(done: number) => void} [options.onProgress] drops finished so far
  * @returns {Promise<{ counts: number[], drops: number, meanTicks: number, maxTicks: number, seconds: number }>}
  */
-export async function simulateBatch ({ rows, drops, serverSeed, clientSeed, workers = availableParallelism(), onProgress }) {
+export async function simulateBatch ({ rows, engineVersion, firstNonce = 0, drops, serverSeed, clientSeed, workers = availableParallelism(), onProgress }) {
   const started = performance.now()
   const threads = Math.max(1, Math.min(workers, drops))
   const counts = new Array(rows + 1).fill(0)
@@ -21,11 +23,11 @@ export async function simulateBatch ({ rows, drops, serverSeed, clientSeed, work
   const progressEvery = Math.max(1, Math.min(10000, Math.floor(drops / threads / 20)))
   const jobs = []
   for (let t = 0; t < threads; t++) {
-    const from = Math.floor(drops * t / threads)
-    const to = Math.floor(drops * (t + 1) / threads)
+    const from = firstNonce + Math.floor(drops * t / threads)
+    const to = firstNonce + Math.floor(drops * (t + 1) / threads)
     jobs.push(new Promise((resolve, reject) => {
       const worker = new Worker(new URL('./batch-worker.js', import.meta.url), {
-        workerData: { rows, serverSeed, clientSeed, from, to, progressEvery }
+        workerData: { rows, engineVersion, serverSeed, clientSeed, from, to, progressEvery }
       })
       worker.on('message', (message) => {
         if (message.type === 'progress') {

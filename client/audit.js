@@ -1,5 +1,4 @@
-import { createBoard, simulateDrop, rtpStatistics, ENGINE_VERSION, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
-import { CALIBRATION } from '/engine/multipliers.js'
+import { createBoard, simulateDrop, rtpStatistics, calibrationOf, isEngineVersion, ENGINE_VERSION, ENGINE_VERSIONS, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
 import { apiRequest, ApiError, query } from './api.js'
 import { byId, el, fill, formatAmount, formatMultiplier, shortHex } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
@@ -26,6 +25,8 @@ const renderer = new BoardRenderer(byId('replay-canvas'), {
 const player = new ReplayPlayer(renderer, showReplayState)
 const state = {
   token: sessionStorage.getItem(TOKEN_KEY),
+  /** the server accepted `token` (set once the check has answered, not while it is asked) */
+  signedIn: false,
   /** @type {any[]} */
   lookups: [],
   stats: { room: null, timer: null, samples: [], last: null }
@@ -44,6 +45,7 @@ function operatorGet (path) {
 
 async function signIn (token) {
   state.token = token
+  state.signedIn = false
   try {
     await operatorGet('/api/audit/drops?limit=1')
   } catch (error) {
@@ -53,6 +55,7 @@ async function signIn (token) {
     return false
   }
   sessionStorage.setItem(TOKEN_KEY, token)
+  state.signedIn = true
   showAuth(true, 'Signed in.')
   showBusiestRoom()
   return true
@@ -71,6 +74,7 @@ async function showBusiestRoom () {
 
 function signOut () {
   state.token = null
+  state.signedIn = false
   sessionStorage.removeItem(TOKEN_KEY)
   stopStats()
   showAuth(false, 'Signed out.')
@@ -104,11 +108,15 @@ async function lookupById (id) {
     return null
   }
   const { drop, replay, checks, matches } = audit
-  const board = createBoard({ rows: drop.rows, risk: drop.risk })
+  if (!isEngineVersion(drop.engineVersion)) {
+    say(`Drop #${id} was decided under engine ${drop.engineVersion}, which this page's engine (${ENGINE_VERSIONS.join(', ')}) does not have: reload the page.`, 'error')
+    return null
+  }
+  const board = createBoard({ rows: drop.rows, risk: drop.risk, engineVersion: drop.engineVersion })
   const local = simulateDrop(board, drop.dropSeed, { trajectory: true })
   const chain = drop.serverSeed ? await checkFairness(drop, drop) : null
   const browser = {
-    engineVersion: ENGINE_VERSION,
+    engineVersion: board.engineVersion,
     serverSeedHash: chain ? chain.serverSeedHash : null,
     dropSeed: chain ? chain.dropSeed : null,
     bucket: local.bucket,
@@ -123,24 +131,24 @@ async function lookupById (id) {
   return result
 }
 
-async function lookupBySeeds ({ serverSeed, clientSeed, nonce, rows, risk }) {
+async function lookupBySeeds ({ serverSeed, clientSeed, nonce, rows, risk, engineVersion = ENGINE_VERSION }) {
   if (!requireToken()) return null
   say('Verifying seeds…')
   let verified
   try {
-    verified = await operatorGet(`/api/audit/verify${query({ serverSeed, clientSeed, nonce, rows, risk })}`)
+    verified = await operatorGet(`/api/audit/verify${query({ serverSeed, clientSeed, nonce, rows, risk, engineVersion })}`)
   } catch (error) {
     say(`Seeds: ${error.message}`, 'error')
     return null
   }
-  const chain = await checkFairness({ serverSeed, clientSeed, nonce, rows, risk })
+  const chain = await checkFairness({ serverSeed, clientSeed, nonce, rows, risk, engineVersion })
   const stored = verified.recorded.length > 0 ? await operatorGet(`/api/audit/drops/${verified.recorded[0].id}`).catch(() => null) : null
-  const board = createBoard({ rows, risk })
+  const board = createBoard({ rows, risk, engineVersion })
   const local = simulateDrop(board, chain.dropSeed, { trajectory: true })
   const bet = stored?.drop.bet ?? null
   const replay = { ...verified, payout: bet === null ? null : payoutFor(bet, verified.multiplier) }
   const browser = {
-    engineVersion: ENGINE_VERSION,
+    engineVersion,
     serverSeedHash: chain.serverSeedHash,
     dropSeed: chain.dropSeed,
     bucket: local.bucket,
@@ -270,7 +278,8 @@ function stopStats () {
 
 function renderStats (stats) {
   const perDrop = rtpStatistics(stats.bucketCounts, stats.multipliers)
-  const calibrated = CALIBRATION.rtp[stats.rows][stats.risk]
+  const calibration = calibrationOf(stats.rows, stats.engineVersion)
+  const calibrated = calibration.rtp[stats.risk]
   const samples = state.stats.samples
   if (samples.length === 0 || samples[samples.length - 1].drops !== perDrop.drops) {
     samples.push({ drops: perDrop.drops, rtp: perDrop.rtp, low: perDrop.ci95[0], high: perDrop.ci95[1] })
@@ -280,8 +289,8 @@ function renderStats (stats) {
   byId('stats').replaceChildren(
     el('p', { class: 'stat-line', id: 'stats-summary', dataset: { settled: String(stats.settled) }, text: `${stats.room}: ${stats.settled} settled, ${stats.inFlight} in flight · ${live}` }),
     el('p', { class: 'stat-line', text: `Wagered ${formatAmount(stats.totalBet)}, paid ${formatAmount(stats.totalPayout)} → RTP ${percent(stats.rtp)} of money wagered` }),
-    el('p', { class: 'stat-line', text: `Mean multiplier per drop ${percent(perDrop.rtp)} (95% CI ${percent(perDrop.ci95[0])} – ${percent(perDrop.ci95[1])}) · calibrated ${percent(calibrated)} on ${CALIBRATION.drops.toLocaleString('en-US')} simulated drops` }),
-    bucketChart(stats.bucketCounts, CALIBRATION.bucketCounts[stats.rows]),
+    el('p', { class: 'stat-line', text: `Mean multiplier per drop ${percent(perDrop.rtp)} (95% CI ${percent(perDrop.ci95[0])} – ${percent(perDrop.ci95[1])}) · calibrated ${percent(calibrated)} on ${calibration.drops.toLocaleString('en-US')} simulated drops (engine ${stats.engineVersion})` }),
+    bucketChart(stats.bucketCounts, calibration.bucketCounts),
     legend([['measured share per bucket', CHART_COLORS.measured], ['calibrated share', CHART_COLORS.calibrated]]),
     rtpChart(samples, calibrated),
     legend([['measured RTP per drop, 95% band', CHART_COLORS.measured], ['calibrated RTP', CHART_COLORS.calibrated]])
@@ -295,6 +304,7 @@ function setUp () {
     const select = byId(id)
     for (let r = MIN_ROWS; r <= MAX_ROWS; r++) select.append(el('option', { value: String(r), text: String(r), selected: r === 16 }))
   }
+  for (const version of ENGINE_VERSIONS) byId('seed-engine').append(el('option', { value: version, text: version, selected: version === ENGINE_VERSION }))
   byId('login-form').addEventListener('submit', (event) => {
     event.preventDefault()
     const token = byId('token').value.trim()
@@ -315,7 +325,7 @@ function setUp () {
       say('Enter a server seed, a client seed and a nonce.', 'error')
       return
     }
-    lookupBySeeds({ serverSeed, clientSeed, nonce, rows: Number(byId('seed-rows').value), risk: byId('seed-risk').value })
+    lookupBySeeds({ serverSeed, clientSeed, nonce, rows: Number(byId('seed-rows').value), risk: byId('seed-risk').value, engineVersion: byId('seed-engine').value })
   })
   byId('player-form').addEventListener('submit', (event) => {
     event.preventDefault()
@@ -340,14 +350,14 @@ function setUp () {
     else return
     event.preventDefault()
   })
-  byId('footer-stats').textContent = `engine ${ENGINE_VERSION} · everything on this page is re-simulated in your browser`
+  byId('footer-stats').textContent = `engines ${ENGINE_VERSIONS.join(', ')} (each drop replays under its own) · everything on this page is re-simulated in your browser`
   // An empty board until a drop is loaded.
   renderer.setBoard(createBoard({ rows: 16, risk: 'medium' }))
   renderer.draw([], performance.now())
 }
 
 window.__audit = {
-  get signedIn () { return state.token !== null },
+  get signedIn () { return state.signedIn },
   get lookups () { return state.lookups },
   get replay () { return { tick: player.tick, ticks: player.ticks, playing: player.playing, bucket: player.bucket } },
   get stats () { return state.stats.last },

@@ -8,12 +8,21 @@ import { formatMultiplier } from './dom.js'
  * that layer, the bucket flashes and the balls.
  */
 
-/** Bucket boxes span from this far above the bucket line… */
+/**
+ * Sizes of what is drawn around the physics, in units of 1/36 of a bucket's
+ * width (board px on the 36 px buckets of engine 1.0.0), so every board,
+ * whatever its scale, looks the same. Bucket boxes span from BUCKET_TOP
+ * above the bucket line to BUCKET_BOTTOM below it; the view ends a little lower.
+ */
 const BUCKET_TOP = 4
-/** …to this far below it; the view ends a little lower. */
 const BUCKET_BOTTOM = 22
 const VIEW_MARGIN_BOTTOM = 4
 const FLASH_MS = 450
+
+/** Board px per drawing unit on `board`. @param {{ bucketWidth: number }} board */
+function unitOf (board) {
+  return board.bucketWidth / 36
+}
 
 export class BoardRenderer {
   /**
@@ -60,7 +69,7 @@ export class BoardRenderer {
 
   /** Height of the drawn world: the board and its bucket boxes. */
   get viewHeight () {
-    return this.board ? this.board.bucketLineY + BUCKET_BOTTOM + VIEW_MARGIN_BOTTOM : 1
+    return this.board ? this.board.bucketLineY + (BUCKET_BOTTOM + VIEW_MARGIN_BOTTOM) * unitOf(this.board) : 1
   }
 
   resize () {
@@ -109,6 +118,7 @@ export class BoardRenderer {
     ctx.setTransform(1, 0, 0, 1, 0, 0)
     ctx.drawImage(this.layer, 0, 0)
     const s = this.scale * this.ratio
+    const u = unitOf(board)
     ctx.setTransform(s, 0, 0, s, 0, 0)
 
     this.flashes = this.flashes.filter((f) => now - f.start < FLASH_MS)
@@ -117,7 +127,7 @@ export class BoardRenderer {
       const x = board.bucketLeftX + f.bucket * board.bucketWidth
       ctx.globalAlpha = (1 - t) * 0.85
       ctx.fillStyle = f.mine ? '#ffffff' : '#cfd8ff'
-      roundRect(ctx, x + 2, board.bucketLineY - BUCKET_TOP + 3 * Math.sin(t * Math.PI), board.bucketWidth - 4, BUCKET_TOP + BUCKET_BOTTOM, 4)
+      roundRect(ctx, x + 2 * u, board.bucketLineY + (3 * Math.sin(t * Math.PI) - BUCKET_TOP) * u, board.bucketWidth - 4 * u, (BUCKET_TOP + BUCKET_BOTTOM) * u, 4 * u)
       ctx.fill()
     }
     ctx.globalAlpha = 1
@@ -125,7 +135,7 @@ export class BoardRenderer {
     const trail = extra.trail
     if (trail && trail.upto > 0) {
       ctx.strokeStyle = 'rgba(255, 196, 0, 0.55)'
-      ctx.lineWidth = 1.5
+      ctx.lineWidth = 1.5 * u
       ctx.beginPath()
       ctx.moveTo(trail.trajectory[0], trail.trajectory[1])
       for (let k = 3; k <= 3 * trail.upto; k += 3) ctx.lineTo(trail.trajectory[k], trail.trajectory[k + 1])
@@ -149,7 +159,7 @@ export class BoardRenderer {
       ctx.fill()
       // A mark on the ball shows its spin.
       ctx.strokeStyle = 'rgba(30, 20, 60, 0.55)'
-      ctx.lineWidth = 1.4
+      ctx.lineWidth = 1.4 * u
       ctx.beginPath()
       ctx.moveTo(pose.x, pose.y)
       ctx.lineTo(pose.x + Math.cos(pose.angle) * r * 0.85, pose.y + Math.sin(pose.angle) * r * 0.85)
@@ -162,6 +172,7 @@ export class BoardRenderer {
     const board = this.board
     const ctx = this.layer.getContext('2d', { alpha: false })
     const s = this.scale * this.ratio
+    const u = unitOf(board)
     ctx.setTransform(1, 0, 0, 1, 0, 0)
     const background = ctx.createLinearGradient(0, 0, 0, this.layer.height)
     background.addColorStop(0, '#141b3a')
@@ -173,11 +184,11 @@ export class BoardRenderer {
     // Drop zone.
     const zone = board.dropZone
     ctx.fillStyle = 'rgba(255, 90, 138, 0.25)'
-    roundRect(ctx, zone.minX - board.ballRadius, zone.y - board.ballRadius - 3, zone.maxX - zone.minX + 2 * board.ballRadius, 2 * board.ballRadius + 6, board.ballRadius + 3)
+    roundRect(ctx, zone.minX - board.ballRadius, zone.y - board.ballRadius - 3 * u, zone.maxX - zone.minX + 2 * board.ballRadius, 2 * board.ballRadius + 6 * u, board.ballRadius + 3 * u)
     ctx.fill()
 
     ctx.strokeStyle = 'rgba(140, 160, 230, 0.35)'
-    ctx.lineWidth = 2
+    ctx.lineWidth = 2 * u
     ctx.lineCap = 'round'
     for (const [x1, y1, x2, y2] of board.walls) {
       ctx.beginPath()
@@ -189,7 +200,7 @@ export class BoardRenderer {
     for (const peg of board.pegs) {
       ctx.fillStyle = 'rgba(255, 255, 255, 0.12)'
       ctx.beginPath()
-      ctx.arc(peg.x, peg.y, board.pegRadius + 2, 0, Math.PI * 2)
+      ctx.arc(peg.x, peg.y, board.pegRadius + 2 * u, 0, Math.PI * 2)
       ctx.fill()
       ctx.fillStyle = '#e8ecff'
       ctx.beginPath()
@@ -197,14 +208,14 @@ export class BoardRenderer {
       ctx.fill()
     }
 
-    const top = board.bucketLineY - BUCKET_TOP
-    const height = BUCKET_TOP + BUCKET_BOTTOM
+    const top = board.bucketLineY - BUCKET_TOP * u
+    const height = (BUCKET_TOP + BUCKET_BOTTOM) * u
     for (let i = 0; i < board.multipliers.length; i++) {
       const x = board.bucketLeftX + i * board.bucketWidth
       ctx.fillStyle = this._colors[i]
-      roundRect(ctx, x + 2, top, board.bucketWidth - 4, height, 4)
+      roundRect(ctx, x + 2 * u, top, board.bucketWidth - 4 * u, height, 4 * u)
       ctx.fill()
-      fitText(ctx, formatMultiplier(board.multipliers[i]), x + board.bucketWidth / 2, top + height / 2 + 0.5, board.bucketWidth - 6, s)
+      fitText(ctx, formatMultiplier(board.multipliers[i]), x + board.bucketWidth / 2, top + height / 2 + 0.5 * u, board.bucketWidth - 6 * u, s, u)
     }
   }
 }
@@ -221,8 +232,8 @@ function bucketColors (multipliers) {
 }
 
 /** Centred text shrunk to fit `maxWidth` (board units), at least ~7 device px tall. */
-function fitText (ctx, text, x, y, maxWidth, scale) {
-  let size = 11
+function fitText (ctx, text, x, y, maxWidth, scale, unit) {
+  let size = 11 * unit
   ctx.font = `700 ${size}px system-ui, sans-serif`
   const width = ctx.measureText(text).width
   if (width > maxWidth) size = Math.max(7 / scale, size * maxWidth / width)

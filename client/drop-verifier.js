@@ -1,8 +1,9 @@
-import { createBoard, simulateDrop } from '/engine/index.js'
+import { createBoard, simulateDrop, ENGINE_VERSION } from '/engine/index.js'
 
 /**
  * Verifies every drop the page hears about with the very engine the server
- * runs: on `dropped` the drop is simulated from its drop seed, and when its
+ * runs, under the engine version the drop was decided under: on `dropped`
+ * the drop is simulated from its drop seed, and when its
  * `settled` (or its ledger record) arrives, bucket, ticks and the hash of
  * the ball's exact final state must all be equal.
  */
@@ -10,7 +11,7 @@ import { createBoard, simulateDrop } from '/engine/index.js'
 /**
  * @typedef {object} LocalDrop
  * @property {number} dropId @property {string} player @property {boolean} mine
- * @property {string} room @property {number} rows @property {string} risk
+ * @property {string} room @property {number} rows @property {string} risk @property {string} engineVersion
  * @property {string} dropSeed @property {number} startTick @property {number} slot
  * @property {number} bucket @property {number} ticks @property {string} stateHash  the local outcome
  * @property {Float64Array | null} trajectory x, y, angle per tick from release (null: checked from a record, not shown)
@@ -42,17 +43,21 @@ export class DropVerifier {
     this.failures = 0
   }
 
-  /** The engine's board, built locally (not taken from the server). @param {number} rows @param {string} risk */
-  board (rows, risk) {
-    const key = `${rows}-${risk}`
+  /**
+   * The engine's board, built locally (not taken from the server).
+   * @param {number} rows @param {string} risk @param {string} [engineVersion] default the page's newest
+   * @throws {import('/engine/index.js').UnknownEngineVersionError} a version this page's engine does not have
+   */
+  board (rows, risk, engineVersion = ENGINE_VERSION) {
+    const key = `${rows}-${risk}@${engineVersion}`
     let board = this._boards.get(key)
-    if (!board) this._boards.set(key, (board = createBoard({ rows, risk })))
+    if (!board) this._boards.set(key, (board = createBoard({ rows, risk, engineVersion })))
     return board
   }
 
   /**
    * Simulates an announced drop (once per drop id).
-   * @param {{ dropId: number, player: string, room: string, dropSeed: string, startTick: number, slot: number }} announced
+   * @param {{ dropId: number, player: string, room: string, dropSeed: string, engineVersion?: string, startTick: number, slot: number }} announced
    * @param {{ rows: number, risk: string }} boardOf rows and risk of the drop's room
    * @param {string | null} playerId the viewer
    * @returns {LocalDrop}
@@ -60,7 +65,8 @@ export class DropVerifier {
   simulate (announced, { rows, risk }, playerId) {
     const known = this.pending.get(announced.dropId)
     if (known) return known
-    const board = this.board(rows, risk)
+    const engineVersion = announced.engineVersion ?? ENGINE_VERSION
+    const board = this.board(rows, risk, engineVersion)
     const outcome = simulateDrop(board, announced.dropSeed, { trajectory: true })
     /** @type {LocalDrop} */
     const local = {
@@ -70,6 +76,7 @@ export class DropVerifier {
       room: announced.room,
       rows,
       risk,
+      engineVersion,
       dropSeed: announced.dropSeed,
       startTick: announced.startTick,
       slot: announced.slot,
@@ -100,7 +107,7 @@ export class DropVerifier {
   settleFromRecord (record) {
     if (record.status !== 'settled' || this.byId.has(record.id)) return this.byId.get(record.id) ?? null
     if (!this.pending.has(record.id)) {
-      const outcome = simulateDrop(this.board(record.rows, record.risk), record.dropSeed)
+      const outcome = simulateDrop(this.board(record.rows, record.risk, record.engineVersion), record.dropSeed)
       this.pending.set(record.id, {
         dropId: record.id,
         player: record.playerId,
@@ -108,6 +115,7 @@ export class DropVerifier {
         room: record.room,
         rows: record.rows,
         risk: record.risk,
+        engineVersion: record.engineVersion,
         dropSeed: record.dropSeed,
         startTick: record.startTick,
         slot: -1,

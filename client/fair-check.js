@@ -5,7 +5,8 @@ import { createBoard, simulateDrop, sha256Hex, deriveDropSeed } from '/engine/in
  * with the engine's own functions (WebCrypto for the hashes):
  *   sha256(serverSeed)                      = the commitment shown before the drop
  *   HMAC-SHA256(serverSeed, clientSeed:nonce) = the drop seed
- *   simulate(board, drop seed)              = the recorded bucket, ticks and final state
+ *   simulate(board, drop seed)              = the recorded bucket, ticks and final state,
+ * under the engine version the drop was decided under (default the newest).
  */
 
 /**
@@ -18,14 +19,15 @@ import { createBoard, simulateDrop, sha256Hex, deriveDropSeed } from '/engine/in
  */
 
 /**
- * @param {{ serverSeed: string, clientSeed: string, nonce: number, rows: number, risk: string }} seeds
+ * @param {{ serverSeed: string, clientSeed: string, nonce: number, rows: number, risk: string, engineVersion?: string }} seeds
  * @param {{ id?: number, serverSeedHash?: string, dropSeed?: string, bucket?: number | null, ticks?: number | null, stateHash?: string | null }} [record]
  *   what the server recorded or announced, to compare with
  * @returns {Promise<FairCheck>}
  */
-export async function checkFairness ({ serverSeed, clientSeed, nonce, rows, risk }, record = {}) {
+export async function checkFairness ({ serverSeed, clientSeed, nonce, rows, risk, engineVersion }, record = {}) {
   const [serverSeedHash, dropSeed] = await Promise.all([sha256Hex(serverSeed), deriveDropSeed(serverSeed, clientSeed, nonce)])
-  const outcome = simulateDrop(createBoard({ rows, risk }), dropSeed)
+  const board = createBoard({ rows, risk, engineVersion })
+  const outcome = simulateDrop(board, dropSeed)
   const compare = (recorded, computed) => (recorded === undefined || recorded === null ? null : recorded === computed)
   const checks = {
     commitment: compare(record.serverSeedHash, serverSeedHash),
@@ -36,6 +38,7 @@ export async function checkFairness ({ serverSeed, clientSeed, nonce, rows, risk
   }
   return {
     dropId: record.id ?? null,
+    engineVersion: board.engineVersion,
     serverSeedHash,
     dropSeed,
     bucket: outcome.bucket,

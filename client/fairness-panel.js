@@ -1,4 +1,4 @@
-import { sha256Hex, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
+import { sha256Hex, MIN_ROWS, MAX_ROWS, ENGINE_VERSIONS, ENGINE_VERSION } from '/engine/index.js'
 import { byId, el, fill, shortHex } from './dom.js'
 import { checkFairness } from './fair-check.js'
 
@@ -42,6 +42,9 @@ export class FairnessPanel {
     byId('seeds-form').addEventListener('submit', (event) => { event.preventDefault(); this.verifySeeds() })
     const rows = byId('seeds-rows')
     for (let r = MIN_ROWS; r <= MAX_ROWS; r++) rows.append(el('option', { value: String(r), text: String(r), selected: r === 16 }))
+    // Every shipped engine version: a drop verifies under the version it was decided under (shown in its record).
+    const engines = byId('seeds-engine')
+    for (const version of ENGINE_VERSIONS) engines.append(el('option', { value: version, text: version, selected: version === ENGINE_VERSION }))
   }
 
   /** @param {{ serverSeedHash?: string, clientSeed?: string, nonce?: number }} changes */
@@ -123,7 +126,7 @@ export class FairnessPanel {
       this.show(null, 'Enter a server seed, a client seed and a nonce (0 or more).')
       return null
     }
-    const check = await checkFairness({ serverSeed, clientSeed, nonce, rows: Number(byId('seeds-rows').value), risk: byId('seeds-risk').value })
+    const check = await checkFairness({ serverSeed, clientSeed, nonce, rows: Number(byId('seeds-rows').value), risk: byId('seeds-risk').value, engineVersion: byId('seeds-engine').value })
     this.checks.push(check)
     this.show(check, `Seeds ${shortHex(serverSeed, 6)} / ${clientSeed} / ${nonce}`)
     return check
@@ -142,7 +145,7 @@ export class FairnessPanel {
     fill(this.result,
       el('p', { class: check.ok ? 'verdict ok' : 'verdict bad', id: 'verify-verdict', text: `${title}: ${check.ok ? (items.length ? 'verified in your browser' : 'computed') : 'DOES NOT MATCH'}` }),
       items.length ? el('ul', { class: 'checks' }, ...items) : null,
-      el('p', { class: 'note', text: `bucket ${check.bucket} (${check.multiplier}×) after ${check.ticks} ticks, state ${check.stateHash}; drop seed ${shortHex(check.dropSeed)}` })
+      el('p', { class: 'note', text: `engine ${check.engineVersion}: bucket ${check.bucket} (${check.multiplier}×) after ${check.ticks} ticks, state ${check.stateHash}; drop seed ${shortHex(check.dropSeed)}` })
     )
   }
 }

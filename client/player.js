@@ -1,4 +1,4 @@
-import { ENGINE_VERSION } from '/engine/index.js'
+import { ENGINE_VERSION, isEngineVersion } from '/engine/index.js'
 import { byId, el, formatAmount, shortHex } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
@@ -92,8 +92,8 @@ function onWelcome (message) {
   fairness.update({ serverSeedHash: message.serverSeedHash, clientSeed: message.clientSeed, nonce: message.nonce })
   byId('bet').min = String(message.minBet)
   byId('bet').max = String(message.maxBet)
-  if (message.engineVersion !== ENGINE_VERSION) {
-    warn(`The server runs engine ${message.engineVersion} but this page has ${ENGINE_VERSION}: reload the page. Drops cannot be verified until then.`)
+  if (!isEngineVersion(message.engineVersion)) {
+    warn(`The server runs engine ${message.engineVersion}, which this page's engine (up to ${ENGINE_VERSION}) does not have: reload the page. Drops cannot be verified until then.`)
   }
   join(state.roomId)
   if (socket.connects > 1) reconcile()
@@ -102,7 +102,7 @@ function onWelcome (message) {
 function onJoined (message) {
   state.redirects = 0
   const parsed = parseRoomId(message.room)
-  const board = verifier.board(parsed.rows, parsed.risk)
+  const board = verifier.board(parsed.rows, parsed.risk, message.engineVersion)
   if (!sameBoard(board, message.board)) {
     warn(`The server's board for room ${message.room} differs from the one this page's engine builds: outcomes shown here may not match.`)
   }

@@ -19,8 +19,8 @@
 
 /** A landed ball stays visible in its bucket this many ticks, fading out. */
 export const LANDED_LINGER_TICKS = 36
-/** A landed ball sinks this far below the bucket line (into the bucket box) while it fades. */
-export const BUCKET_REST_DEPTH = 8
+/** A landed ball sinks this far below the bucket line (into the bucket box) while it fades, in bucket widths. */
+export const BUCKET_REST_DEPTH = 8 / 36
 /** Positions in snapshots are rounded to 0.5 px: at most 0.25 px off. */
 const SNAPSHOT_TOLERANCE_PX = 0.25 + 1e-6
 
@@ -161,7 +161,7 @@ export class RoomView {
     }
     return {
       x: drop.trajectory[end],
-      y: landY + (this.board.bucketLineY + BUCKET_REST_DEPTH - landY) * t,
+      y: landY + (this.board.bucketLineY + BUCKET_REST_DEPTH * this.board.bucketWidth - landY) * t,
       angle: drop.trajectory[end + 2],
       mine: drop.mine,
       alpha: 1 - since / LANDED_LINGER_TICKS,

@@ -20,7 +20,7 @@ function text (x, y, content, attributes = {}) {
 
 /**
  * Bars: share of the room's settled drops per bucket; markers: the share
- * calibration predicts (CALIBRATION.bucketCounts).
+ * calibration predicts (calibrationOf(rows, engineVersion).bucketCounts).
  * @param {number[]} counts settled drops per bucket
  * @param {number[]} calibrated calibrated counts per bucket
  * @returns {SVGSVGElement}

@@ -1,33 +1,15 @@
-import { ENGINE_VERSION } from './version.js'
-import { multiplierTable, RISKS } from './multipliers.js'
+import { engineRules, ENGINE_VERSION } from './version.js'
 
 export const MIN_ROWS = 8
 export const MAX_ROWS = 16
+/** Risk levels, from the flattest multiplier table to the steepest. */
+export const RISKS = Object.freeze(['low', 'medium', 'high'])
 
 /**
- * Board geometry (px). Part of ENGINE_VERSION: changing any of these changes outcomes.
- * The ball is 14 px across and the gap between two pegs of a row is
- * PEG_SPACING - 2·PEG_RADIUS = 28 px, so a ball can never wedge between them.
- */
-export const BOARD_GEOMETRY = Object.freeze({
-  pegRadius: 4,
-  ballRadius: 7,
-  pegSpacing: 36,
-  rowSpacing: 32,
-  /** margin from the board's edge to the widest peg row */
-  sideMargin: 24,
-  /** height above the first peg row where balls are released */
-  dropHeight: 32,
-  /** half-width of the zone around the centre where a ball may be released */
-  dropZoneHalfWidth: 9,
-  /** the ball settles in a bucket once its centre passes this far below the last row */
-  bucketDepth: 20
-})
-
-/**
+ * @typedef {{ name: string, density: number, restitution: number, friction: number }} BoardMaterial
  * @typedef {object} Board
  * @property {number} rows @property {'low'|'medium'|'high'} risk
- * @property {string} engineVersion
+ * @property {string} engineVersion the version whose rules built it
  * @property {number} width @property {number} height
  * @property {number} pegRadius @property {number} ballRadius
  * @property {{x: number, y: number}[]} pegs  row by row, left to right
@@ -37,21 +19,38 @@ export const BOARD_GEOMETRY = Object.freeze({
  * @property {number} bucketLeftX  left edge of bucket 0
  * @property {number} bucketWidth
  * @property {number[]} multipliers  one per bucket, left to right
+ * @property {BoardMaterial} ballMaterial @property {BoardMaterial} pegMaterial  pegs and walls
+ * @property {{ maxVx: number, maxVy: number, maxSpin: number }} release  bounds of the seeded release
+ * @property {number} maxDropTicks  a ball still in play after this many ticks lands where it is
+ * @property {object} solver  the solver constants of the version (see solver.js)
  */
 
 /**
- * Builds a Plinko board: `rows` rows of pegs in a triangle (row r has r + 3
- * pegs), slanted side walls tangent to the outermost pegs, and rows + 1
- * buckets, one per gap of the last row.
- * @param {{ rows: number, risk: string }} options
+ * Builds a Plinko board under one engine version: `rows` rows of pegs in a
+ * triangle (row r has r + 3 pegs), slanted side walls tangent to the
+ * outermost pegs, and rows + 1 buckets, one per gap of the last row.
+ * @param {{ rows: number, risk: string, engineVersion?: string }} options
+ *   engineVersion: default the newest (ENGINE_VERSION)
+ * @returns {Board}
+ * @throws {RangeError} bad rows or risk; UnknownEngineVersionError
+ */
+export function createBoard ({ rows, risk, engineVersion = ENGINE_VERSION } = {}) {
+  return buildBoard(engineRules(engineVersion), rows, risk)
+}
+
+/**
+ * The board of `rows` and `risk` from a version's rules (engineRules(), or
+ * candidate rules while exploring a new version: scripts/explore-board.js).
+ * Rules without multiplier tables give a board whose multipliers are all 0.
+ * @param {object} rules @param {number} rows @param {string} risk
  * @returns {Board}
  */
-export function createBoard ({ rows, risk } = {}) {
+export function buildBoard (rules, rows, risk) {
   if (!Number.isInteger(rows) || rows < MIN_ROWS || rows > MAX_ROWS) {
     throw new RangeError(`rows must be an integer from ${MIN_ROWS} to ${MAX_ROWS}`)
   }
   if (!RISKS.includes(risk)) throw new RangeError(`risk must be one of ${RISKS.join(', ')}`)
-  const g = BOARD_GEOMETRY
+  const g = rules.geometry
   const s = g.pegSpacing
   const lastRowPegs = rows + 2
   const width = (lastRowPegs - 1) * s + 2 * g.sideMargin
@@ -83,11 +82,11 @@ export function createBoard ({ rows, risk } = {}) {
     walls.push([xBottom, lastRowY, xBottom, bucketLineY + g.ballRadius]) // bucket side
   }
 
-  const multipliers = multiplierTable(rows, risk)
+  const table = rules.multipliers?.[rows]?.[risk]
   return Object.freeze({
     rows,
     risk,
-    engineVersion: ENGINE_VERSION,
+    engineVersion: rules.version,
     width,
     height: bucketLineY + 3 * g.ballRadius,
     pegRadius: g.pegRadius,
@@ -98,7 +97,12 @@ export function createBoard ({ rows, risk } = {}) {
     bucketLineY,
     bucketLeftX: centerX - (lastRowPegs - 1) / 2 * s,
     bucketWidth: s,
-    multipliers
+    multipliers: table ? table.slice() : new Array(rows + 1).fill(0),
+    ballMaterial: rules.ballMaterial,
+    pegMaterial: rules.pegMaterial,
+    release: rules.release,
+    maxDropTicks: rules.maxDropTicks,
+    solver: rules.solver
   })
 }
 
@@ -110,4 +114,12 @@ export function createBoard ({ rows, risk } = {}) {
 export function bucketAt (board, x) {
   const bucket = Math.floor((x - board.bucketLeftX) / board.bucketWidth)
   return bucket < 0 ? 0 : (bucket > board.rows ? board.rows : bucket)
+}
+
+/**
+ * The multiplier table of one board under one engine version (a copy).
+ * @param {number} rows @param {string} risk @param {string} [engineVersion] default the newest
+ */
+export function multiplierTable (rows, risk, engineVersion = ENGINE_VERSION) {
+  return createBoard({ rows, risk, engineVersion }).multipliers
 }

@@ -1,16 +1,14 @@
 import { World } from './world.js'
-import { HARD_PLASTIC, METAL } from './materials.js'
 import { bucketAt } from './board.js'
 import { dropInitialConditions } from './drop-initial-conditions.js'
-
-/** A ball still in play after this many ticks (60 s) lands where it is. */
-export const MAX_DROP_TICKS = 3600
+import { assertSolver } from './solver.js'
 /**
- * Static-grid cell (px) for boards: small cells keep the pegs a ball must
- * test per sub-step to under two. (The world's default is 50 px.) Any size
+ * Static-grid cells (px) for boards, as a multiple of the ball's radius:
+ * cells that small keep the pegs a ball must test per sub-step to about
+ * two, on every board's scale (the world's default is 50 px). Any size
  * gives the same outcomes: a cell lists every shape its balls can reach.
  */
-export const STATIC_CELL_SIZE = 6
+export const STATIC_CELLS_PER_BALL_RADIUS = 1
 
 /**
  * @typedef {object} DropOutcome
@@ -33,7 +31,8 @@ export class DropSimulator {
   /** @param {import('./board.js').Board} board */
   constructor (board) {
     this.board = board
-    this.world = new World({ maxBodyRadius: board.ballRadius, sharedStatics: boardStatics(board) })
+    const statics = boardStatics(board)
+    this.world = new World({ gravityY: statics.gravityY, timestep: statics.timestep, maxBodyRadius: board.ballRadius, sharedStatics: statics })
     // Per body id: the caller's key and ticks since release (-1: not a drop).
     this._keys = []
     this._ticks = new Int32Array(64).fill(-1)
@@ -49,7 +48,7 @@ export class DropSimulator {
   addDrop (dropSeed, key = dropSeed) {
     const start = dropInitialConditions(this.board, dropSeed)
     start.radius = this.board.ballRadius
-    start.material = METAL
+    start.material = this.board.ballMaterial
     start.collidesWithBodies = false
     const body = this.world.createCircle(start)
     if (body >= this._ticks.length) {
@@ -80,10 +79,11 @@ export class DropSimulator {
     const world = this.world
     const ticks = this._ticks
     const lineY = this.board.bucketLineY
+    const maxTicks = this._maxTicks
     for (let id = 0, count = world.bodyCount; id < count; id++) {
       if (ticks[id] < 0) continue
       const age = ++ticks[id]
-      if (world.yOf(id) > lineY || age >= MAX_DROP_TICKS) this._land(id, age)
+      if (world.yOf(id) > lineY || age >= maxTicks) this._land(id, age)
     }
     return this.landed
   }
@@ -116,9 +116,12 @@ const staticWorlds = new WeakMap()
 function boardStatics (board) {
   let world = staticWorlds.get(board)
   if (!world) {
-    world = new World({ maxBodyRadius: board.ballRadius, staticCellSize: STATIC_CELL_SIZE, capacity: 1 })
-    for (const peg of board.pegs) world.addStaticCircle(peg.x, peg.y, board.pegRadius, HARD_PLASTIC)
-    for (const [x1, y1, x2, y2] of board.walls) world.addStaticSegment(x1, y1, x2, y2, HARD_PLASTIC)
+    assertSolver(board.solver, board.engineVersion)
+    const { gravity, timestep } = board.solver
+    world = new World({ gravityY: gravity, timestep, maxBodyRadius: board.ballRadius, staticCellSize: board.ballRadius * STATIC_CELLS_PER_BALL_RADIUS, capacity: 1 })
+    const material = board.pegMaterial
+    for (const peg of board.pegs) world.addStaticCircle(peg.x, peg.y, board.pegRadius, material)
+    for (const [x1, y1, x2, y2] of board.walls) world.addStaticSegment(x1, y1, x2, y2, material)
     staticWorlds.set(board, world)
   }
   return world

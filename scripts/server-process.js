@@ -8,12 +8,14 @@ const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
  * `node server/server.js` in a child process, as in production, on a free
  * loopback port over `databaseUrl`, with `env` on top. `port` resolves once
  * it logs that it listens; `exited` with { code, signal }; `output()` is what
- * it printed (the last 100 KB once it passes 1 MB).
+ * it printed (the last 100 KB once it passes 1 MB). `root` runs another
+ * checkout's server (an older version's, to record what it leaves behind).
  * @param {string} databaseUrl @param {Record<string, string>} [env]
+ * @param {{ root?: string }} [options]
  */
-export function startServerProcess (databaseUrl, env = {}) {
-  const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
-    cwd: ROOT,
+export function startServerProcess (databaseUrl, env = {}, { root = ROOT } = {}) {
+  const child = spawn(process.execPath, [path.join(root, 'server/server.js')], {
+    cwd: root,
     env: {
       ...process.env,
       DATABASE_URL: databaseUrl,

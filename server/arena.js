@@ -1,4 +1,3 @@
-import { ENGINE_VERSION } from '../engine/index.js'
 import { AccountBook } from './ledger/accounts.js'
 import { GroupCommit } from './ledger/group-commit.js'
 import { RoomRegistry } from './rooms/room-registry.js'
@@ -149,7 +148,7 @@ export class Arena {
       tick: room.tick,
       tickRate: 60,
       snapshotEvery: room.snapshotEvery,
-      engineVersion: ENGINE_VERSION,
+      engineVersion: room.board.engineVersion,
       balls: room.ballStates()
     }
   }
@@ -204,7 +203,7 @@ export class Arena {
       roomId: room.id,
       rows: room.rows,
       risk: room.risk,
-      engineVersion: ENGINE_VERSION,
+      engineVersion: room.board.engineVersion,
       seedId: seed.id,
       serverSeedHash: seed.hash,
       clientSeed: account.clientSeed,
@@ -278,6 +277,7 @@ export class Arena {
         clientSeed: drop.clientSeed,
         nonce: drop.nonce,
         dropSeed: drop.dropSeed,
+        engineVersion: drop.engineVersion,
         startTick: drop.startTick,
         bet: drop.bet,
         slot: drop.slot

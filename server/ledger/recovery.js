@@ -1,4 +1,4 @@
-import { ENGINE_VERSION, simulateDrop } from '../../engine/index.js'
+import { isEngineVersion, simulateDrop } from '../../engine/index.js'
 import { boardOf, parseRoomId, roomIdOf } from '../rooms/room-id.js'
 import { payoutFor } from '../fairness/payout.js'
 
@@ -6,9 +6,11 @@ import { payoutFor } from '../fairness/payout.js'
  * Start-up recovery: drops still in flight in the ledger were recorded and
  * debited, but the process stopped before they landed. A drop's outcome is
  * fixed by its seed and board, so each is played to the end now and settled
- * exactly as the room would have settled it, all in one transaction.
- * Drops recorded under another engine version cannot be replayed faithfully
- * and are left for the operator (logged).
+ * exactly as the room would have settled it, all in one transaction, under
+ * the engine version it was recorded under (a drop in flight across an
+ * upgrade settles under the old version). A drop of a version this engine
+ * does not have (recorded by a newer server, then rolled back) is left in
+ * flight for a server that has it, and logged.
  * @param {any} store
  * @param {{ info: Function, warn: Function, error: Function }} log
  * @param {{ drops?: object[] }} [options] only these drops (as listInFlightDrops returns them)
@@ -23,12 +25,12 @@ export async function settleInterruptedDrops (store, log, { drops } = {}) {
   let skipped = 0
   for (const drop of drops) {
     const roomId = roomIdOf(drop.rows, drop.risk)
-    if (drop.engineVersion !== ENGINE_VERSION || !parseRoomId(roomId)) {
+    if (!isEngineVersion(drop.engineVersion) || !parseRoomId(roomId)) {
       skipped++
-      log.error({ dropId: drop.id, engineVersion: drop.engineVersion }, 'cannot replay an interrupted drop recorded under another engine version; left in flight')
+      log.error({ dropId: drop.id, engineVersion: drop.engineVersion }, 'cannot replay an interrupted drop recorded under an engine version this server does not have; left in flight')
       continue
     }
-    const outcome = simulateDrop(boardOf(roomId), drop.dropSeed)
+    const outcome = simulateDrop(boardOf(roomId, drop.engineVersion), drop.dropSeed)
     const payout = payoutFor(drop.bet, outcome.multiplier)
     settlements.push({ id: drop.id, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
     balances.set(drop.playerId, (balances.get(drop.playerId) ?? 0) + payout)

@@ -1,4 +1,4 @@
-import { createBoard, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/index.js'
+import { createBoard, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION } from '../../engine/index.js'
 
 /** Rooms per board: `16-medium` is the first, `16-medium.2` … `16-medium.8` the others, so the players of one board can spread over several rooms. */
 export const ROOM_INSTANCES = 8
@@ -34,15 +34,22 @@ export function roomIdOf (rows, risk, instance = 1) {
 }
 
 /**
- * The (frozen, shared) board of a room id; boards are built once per process
- * and shared by a board's instances (and so are its pegs: DropSimulator).
+ * The (frozen, shared) board of a room id under an engine version; boards
+ * are built once per process and shared by a board's instances (and so are
+ * its pegs: DropSimulator). Rooms run the newest version; older ones replay
+ * and audit the drops recorded under them.
  * @param {string} id a valid room id
+ * @param {string} [engineVersion] default the newest
+ * @throws {import('../../engine/index.js').UnknownEngineVersionError}
  */
-export function boardOf (id) {
+export function boardOf (id, engineVersion = ENGINE_VERSION) {
   const parsed = parseRoomId(id)
   if (!parsed) throw new RangeError(`no room ${id}`)
-  const key = roomIdOf(parsed.rows, parsed.risk)
+  const key = `${roomIdOf(parsed.rows, parsed.risk)}@${engineVersion}`
   let board = boards.get(key)
-  if (!board) boards.set(key, (board = createBoard({ rows: parsed.rows, risk: parsed.risk })))
+  if (!board) {
+    board = createBoard({ rows: parsed.rows, risk: parsed.risk, engineVersion })
+    boards.set(key, board)
+  }
   return board
 }

@@ -161,6 +161,7 @@ export class Room {
         clientSeed: drop.clientSeed,
         nonce: drop.nonce,
         dropSeed: drop.dropSeed,
+        engineVersion: drop.engineVersion,
         bet: drop.bet,
         startTick: drop.startTick,
         x: world.xOf(slot),

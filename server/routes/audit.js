@@ -1,5 +1,5 @@
 import { Readable } from 'node:stream'
-import { simulateDrop, verifyDrop, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION } from '../../engine/index.js'
+import { simulateDrop, verifyDrop, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION, ENGINE_VERSIONS, isEngineVersion } from '../../engine/index.js'
 import { requireOperator } from '../auth.js'
 import { gameError } from '../errors.js'
 import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
@@ -11,6 +11,13 @@ const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }
 /** Printable ASCII only: a NUL or control character is no id (and PostgreSQL refuses NUL in text). */
 const printable = '^[\\x20-\\x7e]*$'
 const playerId = { type: 'string', minLength: 1, maxLength: 64, pattern: printable }
+const engineVersionParam = { type: 'string', minLength: 1, maxLength: 32, pattern: printable }
+
+/** The engine version a request names, checked: a version this server does not have is E_UNKNOWN_ENGINE_VERSION. */
+function requestedEngineVersion (version = ENGINE_VERSION) {
+  if (!isEngineVersion(version)) throw gameError('E_UNKNOWN_ENGINE_VERSION', `no engine version ${JSON.stringify(version)} on this server (it has ${ENGINE_VERSIONS.join(', ')})`)
+  return version
+}
 
 /**
  * The operator API (Authorization: Bearer OPERATOR_TOKEN): any drop with a
@@ -34,7 +41,7 @@ export default async function auditRoutes (app, { arena }) {
           properties: {
             drop: dropRecord,
             replay: {
-              type: 'object',
+              type: ['object', 'null'],
               properties: {
                 engineVersion: { type: 'string' },
                 serverSeedHash: { type: ['string', 'null'] },
@@ -92,7 +99,8 @@ export default async function auditRoutes (app, { arena }) {
           clientSeed: { type: 'string', minLength: 1, maxLength: 64 },
           nonce: { type: 'integer', minimum: 0, maximum: Number.MAX_SAFE_INTEGER },
           rows: { type: 'integer', minimum: MIN_ROWS, maximum: MAX_ROWS, default: 16 },
-          risk: { type: 'string', enum: [...RISKS], default: 'medium' }
+          risk: { type: 'string', enum: [...RISKS], default: 'medium' },
+          engineVersion: engineVersionParam
         },
         required: ['serverSeed', 'clientSeed', 'nonce'],
         additionalProperties: false
@@ -116,12 +124,13 @@ export default async function auditRoutes (app, { arena }) {
     }
   }, async (request) => {
     const { serverSeed, clientSeed, nonce, rows, risk } = request.query
-    const result = await verifyDrop({ serverSeed, clientSeed, nonce, rows, risk })
+    const engineVersion = requestedEngineVersion(request.query.engineVersion)
+    const result = await verifyDrop({ serverSeed, clientSeed, nonce, rows, risk, engineVersion })
     // Any stored drop with these seeds, checked against the recomputation.
     const stored = await store.listDrops({ serverSeedHash: result.serverSeedHash, nonce, limit: 10 })
     const recorded = stored.map((drop) => ({
       id: drop.id,
-      matches: drop.clientSeed === clientSeed && drop.dropSeed === result.dropSeed && drop.rows === rows && drop.risk === risk &&
+      matches: drop.clientSeed === clientSeed && drop.dropSeed === result.dropSeed && drop.rows === rows && drop.risk === risk && drop.engineVersion === engineVersion &&
         (drop.status !== 'settled' || (drop.bucket === result.bucket && drop.ticks === result.ticks && drop.stateHash === result.stateHash))
     }))
     return { ...result, recorded }
@@ -154,11 +163,13 @@ export default async function auditRoutes (app, { arena }) {
     schema: {
       summary: 'A room\'s settled drops: totals, measured RTP and bucket counts (for the operator\'s charts)',
       params: { type: 'object', properties: { id: { type: 'string', maxLength: 32 } }, required: ['id'] },
+      querystring: { type: 'object', properties: { engineVersion: engineVersionParam }, additionalProperties: false },
       response: {
         200: {
           type: 'object',
           properties: {
             room: { type: 'string' },
+            engineVersion: { type: 'string' },
             rows: { type: 'integer' },
             risk: { type: 'string' },
             multipliers: { type: 'array', items: { type: 'number' } },
@@ -185,13 +196,15 @@ export default async function auditRoutes (app, { arena }) {
     const id = request.params.id
     const parsed = parseRoomId(id)
     if (!parsed) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}`)
-    const stats = await store.roomStats(id)
-    const board = boardOf(id)
+    const engineVersion = requestedEngineVersion(request.query.engineVersion)
+    const stats = await store.roomStats(id, engineVersion)
+    const board = boardOf(id, engineVersion)
     const bucketCounts = new Array(board.rows + 1).fill(0)
     for (const { bucket, count } of stats.buckets) bucketCounts[bucket] = count
     const live = arena.rooms.get(id)
     return {
       room: id,
+      engineVersion,
       ...parsed,
       multipliers: board.multipliers,
       ...stats,
@@ -202,19 +215,24 @@ export default async function auditRoutes (app, { arena }) {
 }
 
 /**
- * Re-simulates a stored drop from its drop seed and checks every link of
- * the chain the server can check: commitment, HMAC, outcome, payout.
- * A check is null when it does not apply (an in-flight drop has no outcome
- * yet); `matches` is true only when every applicable check passed and the
- * drop is settled.
+ * Re-simulates a stored drop from its drop seed, under the engine version
+ * it was decided under, and checks every link of the chain the server can
+ * check: commitment, HMAC, outcome, payout. A check is null when it does
+ * not apply (an in-flight drop has no outcome yet); `matches` is true only
+ * when every applicable check passed and the drop is settled. A drop of an
+ * engine version this server does not have gets no replay (checks
+ * engineVersion false).
  * @param {ReturnType<import('../store/records.js').toDropRecord>} drop
  * @param {string | null} serverSeed
  */
 export function auditDrop (drop, serverSeed) {
-  const outcome = simulateDrop(boardOf(`${drop.rows}-${drop.risk}`), drop.dropSeed)
+  if (!isEngineVersion(drop.engineVersion)) {
+    return { drop, replay: null, checks: { engineVersion: false }, matches: false }
+  }
+  const outcome = simulateDrop(boardOf(`${drop.rows}-${drop.risk}`, drop.engineVersion), drop.dropSeed)
   const payout = payoutFor(drop.bet, outcome.multiplier)
   const replay = {
-    engineVersion: ENGINE_VERSION,
+    engineVersion: drop.engineVersion,
     serverSeedHash: serverSeed === null ? null : sha256Hex(serverSeed),
     dropSeed: serverSeed === null ? null : deriveDropSeed(serverSeed, drop.clientSeed, drop.nonce),
     bucket: outcome.bucket,
@@ -225,7 +243,7 @@ export function auditDrop (drop, serverSeed) {
   }
   const settled = drop.status === 'settled'
   const checks = {
-    engineVersion: drop.engineVersion === ENGINE_VERSION,
+    engineVersion: true,
     serverSeedHash: serverSeed === null ? null : replay.serverSeedHash === drop.serverSeedHash,
     dropSeed: serverSeed === null ? null : replay.dropSeed === drop.dropSeed,
     bucket: settled ? drop.bucket === replay.bucket : null,

@@ -10,7 +10,7 @@ const require = createRequire(import.meta.url)
 /**
  * What the browser needs besides client/ to run the very same engine as the
  * server, with no build step:
- *   GET /engine/NAME.js        the repository's engine/ files, as they are
+ *   GET /engine/PATH.js        the repository's engine/ files (and engine/versions/), as they are
  *   GET /vendor/seedrandom.js  seedrandom as an ES module
  * The pages map the engine's one bare import, 'seedrandom', to
  * /vendor/seedrandom.js with an inline import map (see inlineScriptHashes
@@ -19,17 +19,18 @@ const require = createRequire(import.meta.url)
  */
 export default async function clientAssetRoutes (app) {
   const engineFiles = new Map()
-  for (const name of fs.readdirSync(ENGINE_DIR)) {
-    if (name.endsWith('.js')) engineFiles.set(name, fs.readFileSync(path.join(ENGINE_DIR, name), 'utf8'))
+  for (const name of fs.readdirSync(ENGINE_DIR, { recursive: true })) {
+    if (name.endsWith('.js')) engineFiles.set(name.split(path.sep).join('/'), fs.readFileSync(path.join(ENGINE_DIR, name), 'utf8'))
   }
   const seedrandom = seedrandomModule()
 
   // Engine files are read once: an engine change needs a restart, like the
   // server's own copy. Static and cheap, so outside the per-IP rate limit
   // (a page load fetches every engine module).
-  app.get('/engine/:file', { config: { rateLimit: false }, schema: { summary: 'An engine module, for the browser' } }, (request, reply) => {
-    const source = engineFiles.get(request.params.file)
-    if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no engine file ${request.params.file}` })
+  app.get('/engine/*', { config: { rateLimit: false }, schema: { summary: 'An engine module, for the browser' } }, (request, reply) => {
+    const file = request.params['*']
+    const source = engineFiles.get(file)
+    if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no engine file ${file}` })
     return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(source)
   })
   app.get('/vendor/seedrandom.js', { config: { rateLimit: false }, schema: { summary: 'seedrandom as an ES module, for the browser' } }, (request, reply) => {

@@ -1,4 +1,4 @@
-import { ENGINE_VERSION } from '../../engine/index.js'
+import { ENGINE_VERSION, ENGINE_VERSIONS } from '../../engine/index.js'
 
 /**
  * GET /api/health: liveness for load balancers and the client's about box.
@@ -13,13 +13,14 @@ export default async function healthRoutes (app, { arena }) {
       response: {
         200: {
           type: 'object',
-          properties: { status: { type: 'string' }, engineVersion: { type: 'string' }, store: { type: 'string' }, tick: { type: 'integer' }, rooms: { type: 'integer' } }
+          properties: { status: { type: 'string' }, engineVersion: { type: 'string' }, engineVersions: { type: 'array', items: { type: 'string' } }, store: { type: 'string' }, tick: { type: 'integer' }, rooms: { type: 'integer' } }
         }
       }
     }
   }, async () => ({
     status: arena.accepting ? 'ok' : 'closing',
     engineVersion: ENGINE_VERSION,
+    engineVersions: ENGINE_VERSIONS,
     store: arena.store.kind,
     tick: arena.scheduler.ticks,
     rooms: arena.rooms.size

@@ -176,10 +176,10 @@ export class PostgresStore {
     return rows.map(seedFromRow)
   }
 
-  async roomStats (room) {
+  async roomStats (room, engineVersion) {
     const buckets = await this.pool.query(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
-      FROM drops WHERE room = $1 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room])
-    const inFlight = await this.pool.query("SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND status = 'in_flight'", [room])
+      FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room, engineVersion])
+    const inFlight = await this.pool.query("SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'in_flight'", [room, engineVersion])
     return statsFromRows(buckets.rows, inFlight.rows[0].n)
   }
 

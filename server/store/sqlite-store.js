@@ -125,10 +125,10 @@ export class SqliteStore {
       FROM server_seeds WHERE player_id = ? ORDER BY created_at DESC, id`).all(playerId).map(seedFromRow)
   }
 
-  async roomStats (room) {
+  async roomStats (room, engineVersion) {
     const buckets = this._sql(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
-      FROM drops WHERE room = ? AND status = 'settled' GROUP BY bucket ORDER BY bucket`).all(room)
-    const inFlight = this._sql("SELECT COUNT(*) FROM drops WHERE room = ? AND status = 'in_flight'").pluck().get(room)
+      FROM drops WHERE room = ? AND engine_version = ? AND status = 'settled' GROUP BY bucket ORDER BY bucket`).all(room, engineVersion)
+    const inFlight = this._sql("SELECT COUNT(*) FROM drops WHERE room = ? AND engine_version = ? AND status = 'in_flight'").pluck().get(room, engineVersion)
     return statsFromRows(buckets, inFlight)
   }
 

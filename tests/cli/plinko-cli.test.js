@@ -5,7 +5,8 @@ import { mkdtempSync, readFileSync, rmSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
-import { createBoard, simulateDrop, ENGINE_VERSION } from '../../engine/index.js'
+import { createBoard, simulateDrop, ENGINE_VERSION, ENGINE_VERSIONS } from '../../engine/index.js'
+import { ledgerFixture, fixtureDrops } from '../helpers/ledger-fixture.js'
 
 const PLINKO = fileURLToPath(new URL('../../bin/plinko.js', import.meta.url))
 
@@ -61,6 +62,50 @@ describe('plinko CLI', () => {
     }
   })
 
+  it('verify --engine-version reproduces drops a 1.0.0 server recorded before the upgrade', async () => {
+    const fixture = ledgerFixture('1.0.0')
+    const a = fixture.players.a
+    const revealed = fixtureDrops(fixture).filter((d) => d.server_seed_hash === a.revealedServerSeedHash && d.status === 'settled')
+    expect(revealed.length).toBeGreaterThan(10)
+    for (const drop of revealed.slice(0, 4)) {
+      const args = ['verify', '--server-seed', a.revealedServerSeed, '--client-seed', drop.client_seed, '--nonce', String(drop.nonce), '--rows', String(drop.rows), '--risk', drop.risk]
+      const old = await plinko(...args, '--engine-version', '1.0.0')
+      expect(old.code).toBe(0)
+      expect(JSON.parse(old.stdout)).toEqual({
+        serverSeedHash: a.revealedServerSeedHash,
+        dropSeed: drop.drop_seed,
+        bucket: drop.bucket,
+        multiplier: drop.multiplier,
+        ticks: drop.ticks,
+        stateHash: drop.state_hash,
+        engineVersion: '1.0.0'
+      })
+      // Without --engine-version: the newest engine, another outcome.
+      const newest = JSON.parse((await plinko(...args)).stdout)
+      expect(newest.engineVersion).toBe(ENGINE_VERSION)
+      expect(newest.stateHash).not.toBe(drop.state_hash)
+    }
+  })
+
+  it('rtp --engine-version simulates under that version', async () => {
+    const dir = mkdtempSync(join(tmpdir(), 'plinko-rtp-'))
+    try {
+      for (const version of ENGINE_VERSIONS) {
+        const { code, stdout } = await plinko('rtp', '--rows', '9', '--risk', 'low', '--drops', '300', '--server-seed', 's', '--workers', '1', '--engine-version', version, '--chart', join(dir, `${version}.svg`), '--json')
+        expect(code).toBe(0)
+        const summary = JSON.parse(stdout)
+        expect(summary.engineVersion).toBe(version)
+        const board = createBoard({ rows: 9, risk: 'low', engineVersion: version })
+        const counts = new Array(10).fill(0)
+        for (let n = 0; n < 300; n++) counts[simulateDrop(board, createHmac('sha256', 's').update(`rtp:${n}`).digest('hex')).bucket]++
+        expect(summary.counts).toEqual(counts)
+        expect(summary.multipliers).toEqual(board.multipliers)
+      }
+    } finally {
+      rmSync(dir, { recursive: true, force: true })
+    }
+  })
+
   it('rejects bad arguments with a clear message and exit code 2', async () => {
     for (const args of [
       [],
@@ -69,6 +114,8 @@ describe('plinko CLI', () => {
       ['verify', '--server-seed', 's', '--client-seed', 'c', '--nonce', '-1'],
       ['verify', '--server-seed', 's', '--client-seed', 'c', '--nonce', '1', '--rows', '20'],
       ['verify', '--server-seed', 's', '--client-seed', 'c', '--nonce', '1', '--risk', 'wild'],
+      ['verify', '--server-seed', 's', '--client-seed', 'c', '--nonce', '1', '--engine-version', '0.9.0'],
+      ['rtp', '--drops', '10', '--engine-version', 'latest'],
       ['rtp', '--drops', '0'],
       ['rtp', '--unknown']
     ]) {

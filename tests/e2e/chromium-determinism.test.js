@@ -14,17 +14,18 @@ import { readFileSync } from 'node:fs'
 import { fileURLToPath } from 'node:url'
 import { startArenaServer } from './helpers/arena-server.js'
 import { launchChromium } from './helpers/browser.js'
-import { determinismDrops } from '../helpers/determinism-inputs.js'
+import { ENGINE_VERSIONS } from '../../engine/index.js'
+import { determinismDropsOfEveryVersion } from '../helpers/determinism-inputs.js'
 import { buildProbeBundle, PROBE_GLOBAL } from '../helpers/engine-bundle.js'
 import { runDeterminismProbe } from '../engine/fixtures/determinism-probe.js'
 
-const DROP_COUNT = 1000
+const DROP_COUNT = 1000 * ENGINE_VERSIONS.length
 const PROBE_FILE = fileURLToPath(new URL('../engine/fixtures/determinism-probe.js', import.meta.url))
 
 let server
 let chromium
 let node
-const drops = determinismDrops(DROP_COUNT)
+const drops = determinismDropsOfEveryVersion(1000)
 
 beforeAll(async () => {
   node = runDeterminismProbe(drops)
@@ -38,8 +39,9 @@ afterAll(async () => {
 })
 
 function expectSameOutcomes (chrome, how) {
-  expect(chrome.engineVersion).toBe(node.engineVersion)
+  expect(chrome.engineVersions).toEqual(node.engineVersions)
   expect(chrome.count).toBe(DROP_COUNT)
+  expect(chrome.digests).toEqual(node.digests)
   let first = null
   let differing = 0
   for (let i = 0; i < DROP_COUNT; i++) {
@@ -53,7 +55,7 @@ function expectSameOutcomes (chrome, how) {
   expect(chrome.digest).toBe(node.digest)
 }
 
-describe(`Chromium determinism: ${DROP_COUNT} drops on every board`, () => {
+describe(`Chromium determinism: 1,000 drops on every board under each of ${ENGINE_VERSIONS.join(', ')}`, () => {
   it('the engine served at /engine/ through the import map gives Node\'s outcome for every drop', async () => {
     const page = await chromium.newPage()
     // The probe module, served from the repository at its own path; its

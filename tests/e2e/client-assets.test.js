@@ -34,13 +34,15 @@ describe('client assets', () => {
   })
 
   it('serves every engine file unchanged at /engine/, and nothing else from there', async () => {
-    for (const name of readdirSync(ENGINE_DIR).filter((n) => n.endsWith('.js'))) {
+    const names = readdirSync(ENGINE_DIR, { recursive: true }).filter((n) => n.endsWith('.js'))
+    expect(names).toContain('versions/engine-1.0.0.js') // every shipped version's rules, for the browser's verification
+    for (const name of names) {
       const response = await server.api('GET', `/engine/${name}`)
       expect(response.status, name).toBe(200)
       expect(response.headers['content-type']).toMatch(/^text\/javascript/)
       expect(response.text).toBe(readFileSync(`${ENGINE_DIR}/${name}`, 'utf8'))
     }
-    for (const url of ['/engine/nope.js', '/engine/..%2Fpackage.json', '/engine/../server/app.js']) {
+    for (const url of ['/engine/nope.js', '/engine/..%2Fpackage.json', '/engine/../server/app.js', '/engine/versions/../../server/app.js', '/engine/versions/%2e%2e/%2e%2e/server/app.js', '/engine/versions/..%2F..%2Fpackage.json']) {
       expect((await server.api('GET', url)).status, url).toBe(404)
     }
   })

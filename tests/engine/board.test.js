@@ -1,18 +1,21 @@
 import { describe, it, expect } from 'vitest'
-import { createBoard, bucketAt, MIN_ROWS, MAX_ROWS } from '../../engine/board.js'
-import { RISKS, MULTIPLIER_TABLES } from '../../engine/multipliers.js'
-import { ENGINE_VERSION } from '../../engine/version.js'
+import { createBoard, bucketAt, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/board.js'
+import { ENGINE_VERSION, ENGINE_VERSIONS, engineRules } from '../../engine/version.js'
 
-describe('createBoard', () => {
+describe.each(ENGINE_VERSIONS)('createBoard under engine %s', (engineVersion) => {
+  const rules = engineRules(engineVersion)
+
   it('builds every rows × risk board: a triangle of pegs, rows + 1 buckets, a multiplier each', () => {
     for (let rows = MIN_ROWS; rows <= MAX_ROWS; rows++) {
       for (const risk of RISKS) {
-        const board = createBoard({ rows, risk })
-        expect(board.engineVersion).toBe(ENGINE_VERSION)
+        const board = createBoard({ rows, risk, engineVersion })
+        expect(board.engineVersion).toBe(engineVersion)
         expect(board.pegs.length).toBe((rows * (rows + 5)) / 2) // sum of r + 3 for r < rows
-        expect(board.multipliers).toEqual([...MULTIPLIER_TABLES[rows][risk]])
+        expect(board.multipliers).toEqual([...rules.multipliers[rows][risk]])
         expect(board.multipliers.length).toBe(rows + 1)
         expect(board.multipliers).toEqual([...board.multipliers].reverse()) // symmetric
+        // Never decreasing from the centre outwards.
+        for (let i = 0; i < rows / 2; i++) expect(board.multipliers[i]).toBeGreaterThanOrEqual(board.multipliers[i + 1])
         // Row r has r + 3 pegs, centred.
         const firstRow = board.pegs.filter((p) => p.y === board.pegs[0].y)
         expect(firstRow.length).toBe(3)
@@ -29,8 +32,13 @@ describe('createBoard', () => {
     }
   })
 
+  it('leaves the ball room to pass between two pegs (it can never wedge there)', () => {
+    const board = createBoard({ rows: 16, risk: 'low', engineVersion })
+    expect(2 * board.ballRadius).toBeLessThan(board.bucketWidth - 2 * board.pegRadius)
+  })
+
   it('puts the slanted walls tangent to the outermost pegs, so no ball can sit between them', () => {
-    const board = createBoard({ rows: 12, risk: 'low' })
+    const board = createBoard({ rows: 12, risk: 'low', engineVersion })
     const [x1, y1, x2, y2] = board.walls.find(([a, , c]) => a !== c)
     const length = Math.sqrt((x2 - x1) ** 2 + (y2 - y1) ** 2)
     const distance = (p) => Math.abs((p.x - x1) * (y2 - y1) - (p.y - y1) * (x2 - x1)) / length
@@ -39,11 +47,18 @@ describe('createBoard', () => {
   })
 
   it('maps x to buckets and clamps outside the last row', () => {
-    const board = createBoard({ rows: 8, risk: 'medium' })
+    const board = createBoard({ rows: 8, risk: 'medium', engineVersion })
     expect(bucketAt(board, board.bucketLeftX - 50)).toBe(0)
     expect(bucketAt(board, board.bucketLeftX + 0.5 * board.bucketWidth)).toBe(0)
     expect(bucketAt(board, board.bucketLeftX + 3.5 * board.bucketWidth)).toBe(3)
     expect(bucketAt(board, board.bucketLeftX + 100 * board.bucketWidth)).toBe(8)
+  })
+})
+
+describe('createBoard', () => {
+  it('builds the newest version by default', () => {
+    expect(createBoard({ rows: 8, risk: 'low' }).engineVersion).toBe(ENGINE_VERSION)
+    expect(ENGINE_VERSIONS[ENGINE_VERSIONS.length - 1]).toBe(ENGINE_VERSION)
   })
 
   it('rejects bad options with a clear error', () => {

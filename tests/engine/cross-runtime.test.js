@@ -1,6 +1,7 @@
 /**
  * Cross-runtime determinism (issue #2, Tests): the same 1,000 drops, spread
- * over every board (rows 8-16 × low/medium/high), must give bit-identical
+ * over every board (rows 8-16 × low/medium/high), under every shipped engine
+ * version, must give bit-identical
  * outcomes (bucket, ticks and the hash of the ball's exact final state) in
  * Node (V8) and in engines that are not V8:
  *   - Bun (JavaScriptCore), running the probe and the engine from source;
@@ -22,12 +23,15 @@ import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { getQuickJS } from 'quickjs-emscripten'
-import { ENGINE_VERSION } from '../../engine/index.js'
-import { determinismDrops, ALL_ROWS, ALL_RISKS } from '../helpers/determinism-inputs.js'
+import { readFileSync } from 'node:fs'
+import { ENGINE_VERSIONS } from '../../engine/index.js'
+import { determinismDropsOfEveryVersion, ALL_ROWS, ALL_RISKS } from '../helpers/determinism-inputs.js'
+import { fixtureFile } from './fixtures/record-determinism-hashes.js'
 import { buildProbeBundle, PROBE_GLOBAL } from '../helpers/engine-bundle.js'
 import { runDeterminismProbe } from './fixtures/determinism-probe.js'
 
-const DROP_COUNT = 1000
+const DROPS_PER_VERSION = 1000
+const DROP_COUNT = DROPS_PER_VERSION * ENGINE_VERSIONS.length
 const ROOT = fileURLToPath(new URL('../../', import.meta.url))
 const BUN = join(ROOT, 'node_modules', '.bin', 'bun')
 const BUN_RUNNER = fileURLToPath(new URL('./fixtures/bun-probe-runner.js', import.meta.url))
@@ -56,8 +60,9 @@ function firstDifference (expected, actual) {
 }
 
 function expectSameOutcomes (node, other, runtime) {
-  expect(other.engineVersion, `${runtime} ran another engine version`).toBe(node.engineVersion)
+  expect(other.engineVersions, `${runtime} has other engine versions`).toEqual(node.engineVersions)
   expect(other.count).toBe(DROP_COUNT)
+  expect(other.digests, `${runtime} digest per engine version`).toEqual(node.digests)
   expect(firstDifference(node.results, other.results), `first drop where ${runtime} disagrees with Node`).toBeNull()
   expect(other.digest, `${runtime} digest over all outcomes`).toBe(node.digest)
 }
@@ -81,8 +86,8 @@ function runBun (dropsFile) {
   })
 }
 
-describe(`cross-runtime determinism: ${DROP_COUNT} drops on every board`, () => {
-  const drops = determinismDrops(DROP_COUNT)
+describe(`cross-runtime determinism: ${DROPS_PER_VERSION} drops on every board under each of ${ENGINE_VERSIONS.join(', ')}`, () => {
+  const drops = determinismDropsOfEveryVersion(DROPS_PER_VERSION)
   let node
 
   beforeAll(() => {
@@ -94,9 +99,13 @@ describe(`cross-runtime determinism: ${DROP_COUNT} drops on every board`, () => 
   it('covers every rows × risk board and is reproducible within Node', () => {
     const boards = new Set(drops.map((d) => `${d.rows}:${d.risk}`))
     expect(boards.size).toBe(ALL_ROWS.length * ALL_RISKS.length)
-    expect(new Set(drops.map((d) => d.dropSeed)).size).toBe(DROP_COUNT)
-    expect(node.engineVersion).toBe(ENGINE_VERSION)
+    expect(new Set(drops.map((d) => `${d.engineVersion}:${d.dropSeed}`)).size).toBe(DROP_COUNT)
+    expect(node.engineVersions).toEqual(ENGINE_VERSIONS)
     expect(node.count).toBe(DROP_COUNT)
+    // Each version's digest is the one recorded when it shipped (so every runtime below matches the record too).
+    for (const version of ENGINE_VERSIONS) {
+      expect(node.digests[version], `engine ${version}`).toBe(JSON.parse(readFileSync(fixtureFile(version), 'utf8')).crossRuntime.digest)
+    }
     for (const r of node.results) {
       expect(r.stateHash).toMatch(/^[0-9a-f]{16}$/)
       expect(r.bucket).toBeGreaterThanOrEqual(0)

@@ -4,20 +4,20 @@ import { World } from '../../engine/world.js'
 import { createBoard } from '../../engine/board.js'
 import { DropSimulator } from '../../engine/drop-simulator.js'
 import { dropInitialConditions } from '../../engine/drop-initial-conditions.js'
-import { HARD_PLASTIC, METAL } from '../../engine/materials.js'
+import { HARD_PLASTIC } from '../../engine/materials.js'
 
 const seed = (n) => createHmac('sha256', 'shared-statics-test').update(String(n)).digest('hex')
 
 /** A world with its own copy of the board's pegs and walls, built the way DropSimulator's shared one is. */
 function ownWorld (board) {
   const world = new World({ maxBodyRadius: board.ballRadius, staticCellSize: 16 })
-  for (const peg of board.pegs) world.addStaticCircle(peg.x, peg.y, board.pegRadius, HARD_PLASTIC)
-  for (const [x1, y1, x2, y2] of board.walls) world.addStaticSegment(x1, y1, x2, y2, HARD_PLASTIC)
+  for (const peg of board.pegs) world.addStaticCircle(peg.x, peg.y, board.pegRadius, board.pegMaterial)
+  for (const [x1, y1, x2, y2] of board.walls) world.addStaticSegment(x1, y1, x2, y2, board.pegMaterial)
   return world
 }
 
 function release (world, board, n) {
-  return world.createCircle({ ...dropInitialConditions(board, seed(n)), radius: board.ballRadius, material: METAL, collidesWithBodies: false })
+  return world.createCircle({ ...dropInitialConditions(board, seed(n)), radius: board.ballRadius, material: board.ballMaterial, collidesWithBodies: false })
 }
 
 describe('worlds sharing static shapes (sharedStatics)', () => {

@@ -117,6 +117,8 @@ describe.each(STORE_KINDS)('error codes on %s', (kind) => {
     expectHttpError(await server.api('PUT', '/api/seeds/client', { token: alice.token, body: { clientSeed: '' } }), 400, 'E_BAD_SEED')
     expectHttpError(await server.api('PUT', '/api/seeds/client', { token: alice.token, body: { clientSeed: 'x'.repeat(65) } }), 400, 'E_BAD_SEED')
     expectHttpError(await server.api('GET', '/api/audit/rooms/99-low/stats', { token: OPERATOR_TOKEN }), 404, 'E_UNKNOWN_ROOM')
+    expectHttpError(await server.api('GET', '/api/audit/rooms/8-low/stats?engineVersion=0.0.9', { token: OPERATOR_TOKEN }), 400, 'E_UNKNOWN_ENGINE_VERSION')
+    expectHttpError(await server.api('GET', '/api/audit/verify?serverSeed=s&clientSeed=c&nonce=1&engineVersion=latest', { token: OPERATOR_TOKEN }), 400, 'E_UNKNOWN_ENGINE_VERSION')
     expectHttpError(await server.api('GET', '/api/audit/export', { token: OPERATOR_TOKEN }), 400, 'E_BAD_REQUEST')
     expectHttpError(await server.api('GET', '/api/audit/drops?from=yesterday', { token: OPERATOR_TOKEN }), 400, 'E_BAD_REQUEST')
     const badJson = await server.app.inject({ method: 'PUT', url: '/api/seeds/client', headers: { authorization: `Bearer ${alice.token}`, 'content-type': 'application/json' }, payload: '{"clientSeed":' })

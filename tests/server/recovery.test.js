@@ -112,7 +112,7 @@ describe.each(STORE_KINDS)('recovery and persistence on %s', (kind) => {
     expect(rows.map((r) => r.status)).toEqual(['settled', 'settled'])
   })
 
-  it('leaves in flight (and reports) drops recorded under another engine version', async () => {
+  it('leaves in flight (and reports) drops recorded under an engine version this server does not have', async () => {
     const db = await backend.newDatabase()
     const store = await openStore(db.database)
     try {

@@ -1,4 +1,4 @@
-import { mkdtempSync, rmSync } from 'node:fs'
+import { copyFileSync, mkdtempSync, rmSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
@@ -13,13 +13,16 @@ export const CLIENT_DIR = fileURLToPath(new URL('../../../client/', import.meta.
  * over a throwaway SQLite file, with a known operator token. restart()
  * closes it (gracefully: balls in flight are settled) and starts a new
  * one on the same port over the same file, as a deploy would.
- * @param {{ tickRate?: number, env?: Record<string, string> }} [options]
- *   tickRate: wall-clock ticks per second (60 is real time; outcomes do not depend on it)
+ * @param {{ tickRate?: number, env?: Record<string, string>, ledger?: string }} [options]
+ *   tickRate: wall-clock ticks per second (60 is real time; outcomes do not depend on it);
+ *   ledger: a SQLite file to start from (copied), e.g. a fixture recorded by an older version
  */
-export async function startArenaServer ({ tickRate = 60, env = {} } = {}) {
+export async function startArenaServer ({ tickRate = 60, env = {}, ledger } = {}) {
   const dir = mkdtempSync(join(tmpdir(), 'plinko-e2e-db-'))
+  const file = join(dir, 'plinko.sqlite')
+  if (ledger) copyFileSync(ledger, file)
   const config = loadConfig({
-    DATABASE_URL: `sqlite:${join(dir, 'plinko.sqlite')}`,
+    DATABASE_URL: `sqlite:${file}`,
     OPERATOR_TOKEN,
     LOG_LEVEL: 'silent',
     CLIENT_DIR,

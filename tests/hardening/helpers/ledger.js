@@ -24,15 +24,15 @@ export async function ledgerTotals (backend, database, startingBalance = 100000)
  * @param {{ playerIds: string[], startingBalance: number }} options
  */
 export async function expectConsistentLedger (expect, backend, database, { playerIds, startingBalance }) {
-  const rows = await backend.query(database, 'SELECT id, player_id, rows, risk, drop_seed, bet, status, bucket, payout FROM drops ORDER BY id')
+  const rows = await backend.query(database, 'SELECT id, player_id, rows, risk, engine_version, drop_seed, bet, status, bucket, payout FROM drops ORDER BY id')
   const boards = new Map()
   const perPlayer = new Map(playerIds.map((id) => [id, startingBalance]))
   const byId = new Map()
   for (const row of rows) {
     const id = Number(row.id)
     expect(byId.has(id), `drop ${id} appears once`).toBe(false)
-    const key = `${row.rows}-${row.risk}`
-    if (!boards.has(key)) boards.set(key, createBoard({ rows: Number(row.rows), risk: row.risk }))
+    const key = `${row.rows}-${row.risk}@${row.engine_version}`
+    if (!boards.has(key)) boards.set(key, createBoard({ rows: Number(row.rows), risk: row.risk, engineVersion: row.engine_version }))
     const outcome = simulateDrop(boards.get(key), row.drop_seed)
     const bet = Number(row.bet)
     expect(row.status, `drop ${id} settled`).toBe('settled')

@@ -1,0 +1,58 @@
+import fs from 'node:fs'
+import { fileURLToPath } from 'node:url'
+import Database from 'better-sqlite3'
+import pg from 'pg'
+import { openStore } from '../../server/store/open-store.js'
+
+/**
+ * A ledger recorded by a real server of an older engine version
+ * (tests/fixtures/ledger-VERSION/, made by tests/fixtures/record-ledger-fixture.js):
+ * the database as that server left it, and what its players saw.
+ * @param {string} version
+ */
+export function ledgerFixture (version) {
+  const dir = fileURLToPath(new URL(`../fixtures/ledger-${version}/`, import.meta.url))
+  return { dir, sqliteFile: `${dir}ledger.sqlite`, ...JSON.parse(fs.readFileSync(`${dir}fixture.json`, 'utf8')) }
+}
+
+const TABLES = ['players', 'server_seeds', 'drops']
+
+/**
+ * Puts a fixture's ledger into a fresh test database (storeBackend().newDatabase()):
+ * the SQLite file is copied as it is; for PostgreSQL the schema is migrated
+ * and every row copied over, so both stores start from the same old ledger.
+ * @param {{ database: { kind: string, file?: string, url?: string } }} database
+ * @param {ReturnType<typeof ledgerFixture>} fixture
+ */
+export async function loadLedgerFixture (database, fixture) {
+  if (database.database.kind === 'sqlite') {
+    fs.copyFileSync(fixture.sqliteFile, database.database.file)
+    return
+  }
+  const store = await openStore(database.database) // creates the schema
+  await store.close()
+  const source = new Database(fixture.sqliteFile, { readonly: true })
+  const client = new pg.Client({ connectionString: database.database.url })
+  await client.connect()
+  try {
+    for (const table of TABLES) {
+      for (const row of source.prepare(`SELECT * FROM ${table} ORDER BY rowid`).all()) {
+        const names = Object.keys(row)
+        await client.query(`INSERT INTO ${table} (${names.join(', ')}) VALUES (${names.map((_, i) => `$${i + 1}`).join(', ')})`, names.map((n) => row[n]))
+      }
+    }
+  } finally {
+    await client.end()
+    source.close()
+  }
+}
+
+/** Every drop row of the fixture's ledger, by id, as recorded (before any upgrade touched it). */
+export function fixtureDrops (fixture) {
+  const source = new Database(fixture.sqliteFile, { readonly: true })
+  try {
+    return source.prepare('SELECT * FROM drops ORDER BY id').all()
+  } finally {
+    source.close()
+  }
+}
