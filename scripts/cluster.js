@@ -55,7 +55,7 @@ function startWorker (i) {
   const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
     cwd: ROOT,
     stdio: ['ignore', 'inherit', 'inherit'],
-    env: { ...process.env, REDIS_URL: redisUrl, PORT: String(port + 1 + i), HOST: '127.0.0.1', PUBLIC_URL: `http://${publicHost}:${port}/n/${i}`, TRUST_PROXY: 'true' }
+    env: { ...process.env, REDIS_URL: redisUrl, PORT: String(port + 1 + i), HOST: '127.0.0.1', PUBLIC_URL: `http://${publicHost}:${port}/n/${i}`, TRUST_PROXY: 'loopback' }
   })
   children[i] = child
   child.on('exit', (code, signal) => {

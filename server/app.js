@@ -19,6 +19,8 @@ import healthRoutes from './routes/health.js'
 import realtimeRoutes from './routes/realtime.js'
 import clientRoutes from './routes/client.js'
 import clientAssetRoutes, { inlineScriptHashes } from './routes/client-assets.js'
+import { requestValidatorCompiler } from './routes/request-validation.js'
+import { clientErrorHandler, requireHost } from './routes/client-errors.js'
 
 /**
  * Builds the whole server without listening: tests drive it with
@@ -57,14 +59,18 @@ export async function buildApp (config, options = {}) {
     requestTimeout: config.httpRequestTimeoutMs,
     // Node checks for requests past their timeout on this period (default 30 s): a slow
     // sender (slowloris) is answered 408 and closed within about one period of its deadline.
-    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs) },
+    // Missing Host is refused by requireHost (with a code), not by Node (with an empty body).
+    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs), requireHostHeader: false },
     // Errors raised before routing (a malformed URL such as '/%') get a named code too.
+    // Parser errors, header overflow and slow senders get a named code too (routes/client-errors.js).
+    clientErrorHandler,
     frameworkErrors: (error, request, reply) => {
       reply.code(400).send({ code: 'E_BAD_REQUEST', message: error.message })
     },
-    // Extra properties are an error, never silently dropped.
-    ajv: { customOptions: { removeAdditional: false } }
   })
+  app.addHook('onRequest', requireHost)
+  // Safe integers only, bodies as sent, no extra properties (routes/request-validation.js).
+  app.setValidatorCompiler(requestValidatorCompiler())
 
   // Clustered (REDIS_URL): the shared ledger decides balances, nonces and drop ids (server/cluster/).
   const clustered = Boolean(config.redisUrl)
@@ -109,7 +115,10 @@ export async function buildApp (config, options = {}) {
   await app.register(rateLimit, {
     max: config.httpRateLimit,
     timeWindow: 60_000,
-    errorResponseBuilder: (request, context) => gameError('E_RATE_LIMITED', `rate limit exceeded; retry in ${context.after}`)
+    errorResponseBuilder: (request, context) => gameError('E_RATE_LIMITED', `rate limit exceeded; retry in ${context.after}`),
+    // A request whose socket is already gone (a malformed chunked body, say) has no address:
+    // counted under one key rather than crashing the hook with a logged stack trace per request.
+    keyGenerator: (request) => request.ip ?? 'unknown'
   })
   await app.register(websocket, {
     options: { maxPayload: config.wsMaxPayload },
@@ -145,6 +154,9 @@ export async function buildApp (config, options = {}) {
 }
 
 /** HTTP errors as `{ code, message }`: named codes keep their status, bad input is a 4xx, never a 500. */
+/** Named codes of fastify's own 4xx errors (body parser, routing, rate limit); any other 4xx is E_BAD_REQUEST. */
+const CODE_OF_STATUS = { 401: 'E_UNAUTHORIZED', 403: 'E_FORBIDDEN', 404: 'E_NOT_FOUND', 413: 'E_PAYLOAD_TOO_LARGE', 415: 'E_UNSUPPORTED_MEDIA_TYPE', 429: 'E_RATE_LIMITED' }
+
 function replyWithError (error, request, reply) {
   if (error instanceof GameError) {
     if (error.statusCode >= 500) request.log.error({ err: error }, error.message)
@@ -159,7 +171,7 @@ function replyWithError (error, request, reply) {
   }
   const status = error.statusCode
   if (Number.isInteger(status) && status >= 400 && status < 500) {
-    const code = status === 401 ? 'E_UNAUTHORIZED' : status === 403 ? 'E_FORBIDDEN' : status === 404 ? 'E_NOT_FOUND' : status === 429 ? 'E_RATE_LIMITED' : 'E_BAD_REQUEST'
+    const code = CODE_OF_STATUS[status] ?? 'E_BAD_REQUEST'
     reply.code(status).send({ code, message: error.message })
     return
   }

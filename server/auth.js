@@ -28,7 +28,7 @@ export async function playerIdForToken (store, token) {
 }
 
 /**
- * preHandler for the operator API. The tokens are compared as SHA-256
+ * onRequest hook for the operator API (before any schema check). The tokens are compared as SHA-256
  * digests with timingSafeEqual: equal lengths whatever the input, and no
  * early exit that would leak how much of a guess was right.
  * Missing token → 401 E_UNAUTHORIZED; wrong token → 403 E_FORBIDDEN.
@@ -45,7 +45,7 @@ export function requireOperator (operatorToken) {
 }
 
 /**
- * preHandler for player routes: sets request.playerId from the bearer token.
+ * onRequest hook for player routes (before any schema check): sets request.playerId from the bearer token.
  * @param {{ findPlayerIdByTokenHash: (hash: string) => Promise<string | null> }} store
  */
 export function requirePlayer (store) {

@@ -1,3 +1,4 @@
+import net from 'node:net'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 
@@ -15,6 +16,7 @@ const VARIABLES = {
   PORT: { default: '8080', parse: integer(0, 65535) },
   HOST: { default: '0.0.0.0', parse: nonEmpty },
   DATABASE_URL: { default: '', parse: databaseUrl, secret: true },
+  SQLITE_BUSY_TIMEOUT_MS: { default: '5000', parse: integer(0, 60000) },
   OPERATOR_TOKEN: { default: '', parse: operatorToken, secret: true },
   SNAPSHOT_HZ: { default: '20', parse: oneOf(SNAPSHOT_RATES.map(String), Number) },
   SPECTATOR_EVENTS: { default: 'snapshot', parse: oneOf(['snapshot', 'immediate']) },
@@ -42,7 +44,7 @@ const VARIABLES = {
   WS_MESSAGE_BURST: { default: '200', parse: integer(1, 1e6) },
   WS_HEARTBEAT_MS: { default: '30000', parse: integer(100, 3600000) },
   SHUTDOWN_TIMEOUT_MS: { default: '10000', parse: integer(100, 3600000) },
-  TRUST_PROXY: { default: 'false', parse: oneOf(['true', 'false'], (v) => v === 'true') },
+  TRUST_PROXY: { default: 'false', parse: trustProxy },
   CLIENT_DIR: { default: path.join(ROOT, 'client'), parse: (v) => path.resolve(nonEmpty(v)) },
   // Clustering (server/cluster/): REDIS_URL turns it on; see the README's "Scaling out".
   REDIS_URL: { default: '', parse: redisUrl, secret: true },
@@ -53,7 +55,7 @@ const VARIABLES = {
 /**
  * @typedef {object} Config
  * @property {number} port @property {string} host
- * @property {{ kind: 'sqlite', file: string } | { kind: 'postgres', url: string }} database
+ * @property {{ kind: 'sqlite', file: string, busyTimeoutMs: number } | { kind: 'postgres', url: string }} database
  * @property {string} operatorToken @property {boolean} operatorTokenGenerated
  * @property {number} snapshotHz @property {number} startingBalance
  * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
@@ -76,7 +78,7 @@ const VARIABLES = {
  * @property {number} wsMessageBurst token bucket capacity for frames per connection
  * @property {number} wsHeartbeatMs ping interval; a peer that misses a ping is dropped
  * @property {number} shutdownTimeoutMs bound on a graceful shutdown, after which the process exits anyway
- * @property {boolean} trustProxy @property {string} clientDir
+ * @property {false | number | string[]} trustProxy which X-Forwarded-For hops to believe (see trustProxy()) @property {string} clientDir
  * @property {string} redisUrl '' = one process alone; set = clustered (server/cluster/)
  * @property {string} publicUrl how clients reach this process ('' = http://HOST:PORT once listening)
  * @property {number} leaseTtlMs room lease lifetime; a dead process's rooms move after at most this
@@ -121,7 +123,7 @@ export function loadConfig (env = process.env) {
   return Object.freeze({
     port: values.PORT,
     host: values.HOST,
-    database: values.DATABASE_URL ?? { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') },
+    database: withBusyTimeout(values.DATABASE_URL ?? { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') }, values.SQLITE_BUSY_TIMEOUT_MS),
     operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
     operatorTokenGenerated: generated,
     snapshotHz: values.SNAPSHOT_HZ,
@@ -156,6 +158,11 @@ export function loadConfig (env = process.env) {
     publicUrl: values.PUBLIC_URL,
     leaseTtlMs: values.LEASE_TTL_MS
   })
+}
+
+/** SQLite: how long a write waits for another process's write lock before failing with E_UNAVAILABLE. */
+function withBusyTimeout (database, busyTimeoutMs) {
+  return database.kind === 'sqlite' ? { ...database, busyTimeoutMs } : database
 }
 
 /** Names of all variables, for documentation and tests. */
@@ -199,6 +206,36 @@ function redisUrl (raw) {
   if (!/^rediss?:\/\//.test(raw)) throw new Error('must be redis://[user:password@]host:port[/db] or rediss://…')
   try { new URL(raw) } catch { throw new Error('is not a valid redis:// URL') } // eslint-disable-line no-new
   return raw
+}
+
+const PROXY_KEYWORDS = ['loopback', 'linklocal', 'uniquelocal']
+
+/**
+ * Which X-Forwarded-For hops to believe: 'false' (none: the socket's peer is
+ * the client), a number N of proxies in front of the server (the client is
+ * the Nth address from the right: what the nearest proxy saw), or the
+ * proxies' addresses (IPs, CIDR subnets, or loopback / linklocal /
+ * uniquelocal, comma-separated). 'true' is refused: it believes every hop,
+ * and the client writes the left-most one itself.
+ */
+function trustProxy (raw) {
+  const value = raw.trim()
+  if (value === 'false') return false
+  if (value === 'true') throw new Error('"true" would believe the client\'s own X-Forwarded-For (its left-most address); give the number of proxies in front of the server (e.g. 1) or their addresses (e.g. 127.0.0.1, 10.0.0.0/8, loopback)')
+  if (/^\d+$/.test(value)) {
+    const hops = Number(value)
+    if (hops < 1 || hops > 10) throw new Error('as a number of proxy hops must be from 1 to 10')
+    return hops
+  }
+  const list = value.split(',').map((entry) => entry.trim())
+  for (const entry of list) {
+    const [address, prefix, extra] = entry.split('/')
+    const family = net.isIP(address)
+    const validPrefix = prefix === undefined || (/^\d+$/.test(prefix) && Number(prefix) <= (family === 6 ? 128 : 32))
+    if (PROXY_KEYWORDS.includes(entry) || (family !== 0 && validPrefix && extra === undefined)) continue
+    throw new Error(`must be false, a number of proxy hops, or proxy addresses (IPs, subnets, ${PROXY_KEYWORDS.join(', ')}); "${entry}" is none of them`)
+  }
+  return list
 }
 
 /** '' or an absolute http(s) URL without a trailing slash (a path prefix is allowed: http://lb/n/node1). */

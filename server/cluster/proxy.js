@@ -12,7 +12,22 @@ import net from 'node:net'
  *   anything else → the next process, round robin.
  *
  * WebSocket upgrades are piped as raw TCP after the request head.
+ *
+ * The processes learn the client's address from X-Forwarded-For, which this
+ * proxy sets to the peer it sees, replacing whatever the client sent (a
+ * client-written X-Forwarded-For would let it pick its own address and so
+ * evade every per-IP limit); the processes trust exactly this one hop
+ * (TRUST_PROXY=loopback in scripts/cluster.js).
  */
+/** Request headers a client could use to claim another address: never passed on. */
+const FORWARDING_HEADERS = new Set(['x-forwarded-for', 'forwarded', 'x-real-ip'])
+
+function withoutForwarding (headers) {
+  const kept = {}
+  for (const [name, value] of Object.entries(headers)) if (!FORWARDING_HEADERS.has(name)) kept[name] = value
+  return kept
+}
+
 export function createProxy ({ targets, log = console }) {
   let next = 0
   const route = (url) => {
@@ -35,7 +50,7 @@ export function createProxy ({ targets, log = console }) {
       port: routed.target.port,
       method: request.method,
       path: routed.path,
-      headers: { ...request.headers, 'x-forwarded-for': request.socket.remoteAddress }
+      headers: { ...withoutForwarding(request.headers), 'x-forwarded-for': request.socket.remoteAddress }
     }, (reply) => {
       response.writeHead(reply.statusCode, reply.headers)
       reply.pipe(response)
@@ -53,7 +68,9 @@ export function createProxy ({ targets, log = console }) {
     if (!routed) { socket.end('HTTP/1.1 404 Not Found\r\n\r\n'); return }
     const upstream = net.connect(routed.target.port, routed.target.host, () => {
       const lines = [`${request.method} ${routed.path} HTTP/1.1`]
-      for (let i = 0; i < request.rawHeaders.length; i += 2) lines.push(`${request.rawHeaders[i]}: ${request.rawHeaders[i + 1]}`)
+      for (let i = 0; i < request.rawHeaders.length; i += 2) {
+        if (!FORWARDING_HEADERS.has(request.rawHeaders[i].toLowerCase())) lines.push(`${request.rawHeaders[i]}: ${request.rawHeaders[i + 1]}`)
+      }
       lines.push(`X-Forwarded-For: ${request.socket.remoteAddress}`)
       upstream.write(lines.join('\r\n') + '\r\n\r\n')
       if (head?.length) upstream.write(head)

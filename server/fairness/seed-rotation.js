@@ -2,10 +2,14 @@ import { newServerSeed } from './seeds.js'
 
 /**
  * Seed changes go through the ledger queue, after every drop accepted
- * before them, and the in-memory account switches only once the change is
- * committed. Drops accepted while a rotation is being written still use the
- * old seed: their drop seeds were fixed before the reveal went out, and the
- * reply reports how many nonces the old seed served in all.
+ * before them and before every drop accepted after them.
+ * - A rotation switches the in-memory account only once it is committed:
+ *   drops accepted while it is being written still use the old seed (their
+ *   drop seeds were fixed before the reveal went out), and the reply reports
+ *   how many nonces the old seed served in all.
+ * - A client seed takes effect when the server receives it, exactly as a
+ *   `drop { clientSeed }` does: memory now, the ledger in the same order
+ *   (the queue), so whichever of the two paths came last holds in both.
  */
 
 /**
@@ -36,9 +40,14 @@ export async function rotateServerSeed (arena, account) {
  * @param {string} clientSeed already validated
  */
 export async function setClientSeed (arena, account, clientSeed) {
-  return arena.ledger.run(async () => {
-    await arena.store.commitBatch({ drops: [], settlements: [], balances: [], nonces: [], clientSeeds: [{ playerId: account.playerId, clientSeed }] })
-    account.clientSeed = clientSeed
-    return { clientSeed, serverSeedHash: account.seed.hash, nonce: account.seed.nextNonce }
-  })
+  const previous = account.clientSeed
+  account.clientSeed = clientSeed
+  try {
+    await arena.ledger.run(() => arena.store.commitBatch({ drops: [], settlements: [], balances: [], nonces: [], clientSeeds: [{ playerId: account.playerId, clientSeed }] }))
+  } catch (error) {
+    // Not written: back to what the ledger has, unless a later change replaced it meanwhile.
+    if (account.clientSeed === clientSeed) account.clientSeed = previous
+    throw error
+  }
+  return { clientSeed, serverSeedHash: account.seed.hash, nonce: account.seed.nextNonce }
 }

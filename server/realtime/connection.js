@@ -4,6 +4,10 @@ import { holdWritesUntilEndOfTurn } from './write-batcher.js'
 
 /** Messages that may arrive while the token is being checked; more than this is abuse. */
 const MAX_EARLY_MESSAGES = 32
+/** A socket we drop for abuse gets this long to take our close frame before it is destroyed. */
+export const DROP_GRACE_MS = 1000
+/** Close code for a client over its frame rate (policy violation). */
+const OVER_RATE_CLOSE = 1008
 
 /**
  * One authenticated WebSocket: turns client frames into arena calls and
@@ -11,7 +15,10 @@ const MAX_EARLY_MESSAGES = 32
  * dropped, settled, errors, …) are always sent; snapshots are skipped while
  * the socket has more than `softLimit` bytes queued. A socket over
  * `hardLimit` is closed (1013, E_SLOW_CONSUMER): nothing is buffered
- * without bound.
+ * without bound. A client over its frame rate (WS_MESSAGE_RATE, protocol
+ * pings included) gets one E_RATE_LIMITED and is closed with 1008. A socket
+ * closed for abuse is not read any more and is destroyed DROP_GRACE_MS
+ * later, so a flooder costs nothing once it is cut off.
  */
 export class Connection {
   /**
@@ -44,7 +51,11 @@ export class Connection {
     this._early = []
     socket.on('message', (data, isBinary) => {
       if (this.account) this._receive(data, isBinary)
-      else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.close(1008, 'too many messages before authentication')
+      else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.drop(1008, 'too many messages before authentication')
+    })
+    // Protocol-level pings count against the frame rate too: ws answers each with a pong.
+    socket.on('ping', () => {
+      if (this.messageLimiter && !this.messageLimiter.take()) this._overRate()
     })
     socket.on('pong', () => { this.alive = true })
     socket.on('close', () => this._closed())
@@ -83,11 +94,7 @@ export class Connection {
 
   _receive (data, isBinary) {
     if (this.closed) return
-    if (this.messageLimiter && !this.messageLimiter.take()) {
-      this.metrics.messagesIn.labels('rate_limited').inc()
-      this.sendError('E_RATE_LIMITED', `at most ${this.messageLimiter.rate} messages per second per connection`)
-      return
-    }
+    if (this.messageLimiter && !this.messageLimiter.take()) return this._overRate()
     let message
     try {
       if (isBinary) {
@@ -210,7 +217,15 @@ export class Connection {
   _tooSlow () {
     this.metrics.slowConsumersClosed.inc()
     this.log.warn({ player: this.account?.playerId, buffered: this.socket.bufferedAmount }, 'closing slow consumer')
-    this.close(ERROR_CODES.E_SLOW_CONSUMER.close, 'E_SLOW_CONSUMER')
+    this.drop(ERROR_CODES.E_SLOW_CONSUMER.close, 'E_SLOW_CONSUMER')
+  }
+
+  /** Over the frame rate: one reply, then the connection goes (1008). */
+  _overRate () {
+    if (this.closed) return
+    this.metrics.messagesIn.labels('rate_limited').inc()
+    this.sendError('E_RATE_LIMITED', `at most ${this.messageLimiter.rate} messages per second per connection; closing`)
+    this.drop(OVER_RATE_CLOSE, 'E_RATE_LIMITED')
   }
 
   // ---- lifecycle ------------------------------------------------------------
@@ -230,6 +245,19 @@ export class Connection {
     if (this.closed) return
     this._closed()
     this.socket.close(code, reason)
+  }
+
+  /**
+   * Closes a connection for abuse: the close frame goes out, nothing more is
+   * read (a flooder's frames are not even parsed), and the socket is
+   * destroyed DROP_GRACE_MS later whether or not the peer answers.
+   * @param {number} code @param {string} reason
+   */
+  drop (code, reason) {
+    if (this.closed) return
+    this.close(code, reason)
+    this.socket.pause()
+    setTimeout(() => this.socket.terminate(), DROP_GRACE_MS).unref()
   }
 
   _closed () {

@@ -29,7 +29,8 @@ function requestedEngineVersion (version = ENGINE_VERSION) {
  */
 export default async function auditRoutes (app, { arena }) {
   const { store } = arena
-  app.addHook('preHandler', requireOperator(arena.config.operatorToken))
+  // onRequest: the token is checked before anything of the request is (its query's schema included).
+  app.addHook('onRequest', requireOperator(arena.config.operatorToken))
 
   app.get('/api/audit/drops/:id', {
     schema: {

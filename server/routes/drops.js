@@ -13,7 +13,7 @@ export default async function dropRoutes (app, { arena }) {
   const asPlayer = requirePlayer(store)
 
   app.get('/api/drops', {
-    preHandler: asPlayer,
+    onRequest: asPlayer,
     schema: {
       summary: "The caller's drops, newest first; page with ?before=<lowest id seen>",
       querystring: {
@@ -32,7 +32,7 @@ export default async function dropRoutes (app, { arena }) {
   })
 
   app.get('/api/drops/:id', {
-    preHandler: asPlayer,
+    onRequest: asPlayer,
     schema: {
       summary: 'One of the caller\'s drops',
       params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },

@@ -47,7 +47,7 @@ export default async function realtimeRoutes (app, { arena }) {
       const ip = request.ip
       if (open >= config.wsMaxConnections || ipLimits.openFrom(ip) >= config.wsMaxConnectionsPerIp) {
         connection.sendError('E_TOO_MANY_CONNECTIONS')
-        connection.close(ERROR_CODES.E_TOO_MANY_CONNECTIONS.close, 'E_TOO_MANY_CONNECTIONS')
+        connection.drop(ERROR_CODES.E_TOO_MANY_CONNECTIONS.close, 'E_TOO_MANY_CONNECTIONS')
         return
       }
       open++

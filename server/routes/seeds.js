@@ -30,7 +30,7 @@ export default async function seedRoutes (app, { arena }) {
   }
 
   app.get('/api/seeds', {
-    preHandler: asPlayer,
+    onRequest: asPlayer,
     schema: {
       summary: "The caller's server seeds: the active one by its hash only, revealed ones in full",
       response: {
@@ -69,7 +69,7 @@ export default async function seedRoutes (app, { arena }) {
   }))
 
   app.post('/api/seeds/rotate', {
-    preHandler: asPlayer,
+    onRequest: asPlayer,
     schema: {
       summary: 'Reveal the active server seed and commit a new one',
       response: {
@@ -88,7 +88,7 @@ export default async function seedRoutes (app, { arena }) {
   }, async (request) => withAccount(request, (account) => rotateServerSeed(arena, account)))
 
   app.put('/api/seeds/client', {
-    preHandler: asPlayer,
+    onRequest: asPlayer,
     schema: {
       summary: 'Set the client seed used by the next drops',
       body: { type: 'object', properties: { clientSeed }, required: ['clientSeed'], additionalProperties: false },

@@ -37,7 +37,7 @@ export default async function sessionRoutes (app, { arena }) {
   })
 
   app.get('/api/me', {
-    preHandler: requirePlayer(store),
+    onRequest: requirePlayer(store),
     schema: {
       summary: "The caller's balance, active seed commitment, client seed and next nonce",
       response: {

@@ -10,7 +10,7 @@ import { PostgresStore } from './postgres-store.js'
 export async function openStore (database) {
   const store = database.kind === 'postgres'
     ? new PostgresStore({ url: database.url })
-    : new SqliteStore({ file: database.file })
+    : new SqliteStore({ file: database.file, busyTimeoutMs: database.busyTimeoutMs })
   try {
     await store.migrate()
   } catch (error) {

@@ -2,26 +2,41 @@ import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 import { openSqliteDatabase } from './sqlite-database.js'
-import { prepareBatchCommit } from './sqlite-batch.js'
+import { prepareWrites } from './sqlite-writes.js'
 import { SqliteWriter } from './sqlite-writer.js'
+import { gameError } from '../errors.js'
 
 /**
  * The ledger on SQLite (better-sqlite3): WAL journal with synchronous=FULL,
- * so a committed transaction survives a power cut. The tick's batches (most
- * of the writes) are committed by a writer thread with its own connection
- * (sqlite-writer.js), so the event loop does not wait for their fsync; the
- * rest is synchronous on this connection, async only to share one interface
- * with the PostgreSQL store. An in-memory database has no second
- * connection: its batches are committed here.
+ * so a committed transaction survives a power cut. Every write (the tick's
+ * batches, new players, seed rotations: sqlite-writes.js) runs on a writer
+ * thread with its own connection (sqlite-writer.js), so the event loop never
+ * waits for an fsync or for another process's write lock; a write that
+ * cannot get the lock within the busy timeout fails with 503 E_UNAVAILABLE.
+ * Reads run on this connection (WAL: they never wait for a writer), async
+ * only to share one interface with the PostgreSQL store. An in-memory
+ * database has no second connection: its writes run here.
  */
 export class SqliteStore {
-  /** @param {{ file: string }} options file path or ':memory:' */
-  constructor ({ file }) {
+  /** @param {{ file: string, busyTimeoutMs?: number }} options file path or ':memory:' */
+  constructor ({ file, busyTimeoutMs }) {
     this.kind = 'sqlite'
-    this.db = openSqliteDatabase(file)
+    this.db = openSqliteDatabase(file, { busyTimeoutMs })
     this._statements = new Map()
-    this._writer = file === ':memory:' ? null : new SqliteWriter(file)
-    this._commitHere = null
+    this._writer = file === ':memory:' ? null : new SqliteWriter(file, { busyTimeoutMs })
+    this._writesHere = null
+  }
+
+  /** One write (sqlite-writes.js), on the writer thread, durable when it resolves. */
+  async _write (op, args) {
+    try {
+      if (this._writer) return await this._writer.run(op, args)
+      this._writesHere ??= prepareWrites(this.db)
+      this._writesHere[op].immediate(args)
+    } catch (error) {
+      if (error.code === 'SQLITE_BUSY') throw gameError('E_UNAVAILABLE', 'the ledger is busy (another process holds its write lock); try again shortly', { cause: error })
+      throw error
+    }
   }
 
   /** Cached prepared statement. @param {string} sql */
@@ -44,17 +59,8 @@ export class SqliteStore {
     }
   }
 
-  async createPlayer ({ id, tokenHash, balance, clientSeed, createdAt, seed }) {
-    this.db.transaction(() => {
-      this._sql('INSERT INTO players (id, token_hash, balance, client_seed, created_at) VALUES (?, ?, ?, ?, ?)')
-        .run(id, tokenHash, balance, clientSeed, createdAt)
-      this._insertSeed(id, seed, createdAt)
-    }).immediate()
-  }
-
-  _insertSeed (playerId, seed, createdAt) {
-    this._sql('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES (?, ?, ?, ?, 1, 0, ?)')
-      .run(seed.id, playerId, seed.seed, seed.hash, createdAt)
+  async createPlayer (player) {
+    await this._write('createPlayer', player)
   }
 
   async findPlayerIdByTokenHash (tokenHash) {
@@ -71,18 +77,11 @@ export class SqliteStore {
 
   /** @param {import('./records.js').LedgerBatch} batch */
   async commitBatch (batch) {
-    if (this._writer) return this._writer.commit(batch)
-    this._commitHere ??= prepareBatchCommit(this.db)
-    this._commitHere.immediate(batch)
+    await this._write('commitBatch', batch)
   }
 
-  async rotateSeed ({ playerId, oldSeedId, newSeed, at }) {
-    this.db.transaction(() => {
-      const { changes } = this._sql('UPDATE server_seeds SET active = 0, revealed_at = ? WHERE id = ? AND player_id = ? AND active = 1')
-        .run(at, oldSeedId, playerId)
-      if (changes !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
-      this._insertSeed(playerId, newSeed, at)
-    }).immediate()
+  async rotateSeed (rotation) {
+    await this._write('rotateSeed', rotation)
   }
 
   async getDrop (id) {

@@ -1,14 +1,16 @@
 /**
  * The SQLite ledger's writer thread (see sqlite-writer.js): its own
- * connection to the database file, committing the batches it is sent one at
- * a time, each durable (synchronous=FULL) before it answers.
+ * connection to the database file, running the writes it is sent one at a
+ * time, each durable (synchronous=FULL) before it answers. A write that
+ * fails answers with the error's message and SQLite code (SQLITE_BUSY: the
+ * write lock stayed held by someone else for the whole busy timeout).
  */
 import { parentPort, workerData } from 'node:worker_threads'
 import { openSqliteDatabase } from './sqlite-database.js'
-import { prepareBatchCommit } from './sqlite-batch.js'
+import { prepareWrites, WRITES } from './sqlite-writes.js'
 
-const db = openSqliteDatabase(workerData.file)
-const commit = prepareBatchCommit(db)
+const db = openSqliteDatabase(workerData.file, { busyTimeoutMs: workerData.busyTimeoutMs })
+const writes = prepareWrites(db)
 
 parentPort.on('message', (message) => {
   if (message.type === 'close') {
@@ -17,9 +19,10 @@ parentPort.on('message', (message) => {
     return
   }
   try {
-    commit.immediate(message.batch)
+    if (!WRITES.includes(message.op)) throw new Error(`no write ${message.op}`)
+    writes[message.op].immediate(message.args)
     parentPort.postMessage({ id: message.id })
   } catch (error) {
-    parentPort.postMessage({ id: message.id, error: error.message })
+    parentPort.postMessage({ id: message.id, error: error.message, code: error.code })
   }
 })

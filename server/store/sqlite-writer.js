@@ -1,18 +1,20 @@
 import { Worker } from 'node:worker_threads'
 
 /**
- * Commits ledger batches on a worker thread with its own SQLite connection,
- * so the event loop never waits for a commit's fsync (it did: up to ~10 ms
- * per tick under load, see loadtest/RESULTS.md). Batches arrive one at a
- * time (the group commit waits for each), and a batch's promise settles only
- * once its transaction is durable, or rolled back with the error. Other
- * writes (sessions, seed rotation) stay on the store's own connection; SQLite
- * serializes the two writers (WAL, busy timeout).
+ * Runs the ledger's writes (sqlite-writes.js: the tick's batches, new
+ * players, seed rotations) on a worker thread with its own SQLite
+ * connection, so the event loop never waits for a commit's fsync (it did: up
+ * to ~10 ms per tick under load, see loadtest/RESULTS.md) nor for a write
+ * lock another process holds (a session once froze every room for the 5 s
+ * busy timeout). Writes run one at a time in the order they are sent, and
+ * each promise settles only once its transaction is durable, or rolled back
+ * with the error (its `code` is SQLite's, e.g. SQLITE_BUSY).
  */
 export class SqliteWriter {
-  /** @param {string} file the database file (not ':memory:') */
-  constructor (file) {
+  /** @param {string} file the database file (not ':memory:') @param {{ busyTimeoutMs?: number }} [options] */
+  constructor (file, { busyTimeoutMs } = {}) {
     this.file = file
+    this.busyTimeoutMs = busyTimeoutMs
     /** @type {Worker | null} */
     this.worker = null
     this.nextId = 1
@@ -22,26 +24,29 @@ export class SqliteWriter {
     this._last = Promise.resolve()
   }
 
-  /** @param {import('./records.js').LedgerBatch} batch */
-  commit (batch) {
+  /**
+   * @param {import('./sqlite-writes.js').WRITES[number]} op @param {any} args
+   * @returns {Promise<void>} once durable
+   */
+  run (op, args) {
     const worker = this.worker ?? this._start()
     const id = this.nextId++
     const committed = new Promise((resolve, reject) => {
       this.pending.set(id, { resolve, reject })
-      worker.postMessage({ id, batch })
+      worker.postMessage({ id, op, args })
     })
     this._last = committed.catch(() => {})
     return committed
   }
 
   _start () {
-    const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { file: this.file } })
-    worker.on('message', ({ id, error }) => {
+    const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { file: this.file, busyTimeoutMs: this.busyTimeoutMs } })
+    worker.on('message', ({ id, error, code }) => {
       const waiter = this.pending.get(id)
       if (!waiter) return
       this.pending.delete(id)
       if (error === undefined) waiter.resolve()
-      else waiter.reject(new Error(error))
+      else waiter.reject(Object.assign(new Error(error), { code }))
     })
     // A thread that dies takes its open transaction with it (rolled back): fail what waited, start afresh next time.
     const lost = (error) => {
@@ -55,7 +60,7 @@ export class SqliteWriter {
     return worker
   }
 
-  /** Stops the thread once the batches sent to it are done. */
+  /** Stops the thread once the writes sent to it are done. */
   async close () {
     await this._last
     const worker = this.worker

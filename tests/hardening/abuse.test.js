@@ -148,17 +148,26 @@ describe('rate limits', () => {
     expect(all.filter((m) => m.code === 'E_RATE_LIMITED' && /one address/.test(m.message)).length).toBeGreaterThanOrEqual(3)
   })
 
-  it('limits frames (joins, pings, anything) per connection', async () => {
-    const server = await serverWith({ WS_MESSAGE_RATE: '2', WS_MESSAGE_BURST: '10' })
+  it('limits frames (joins, pings, anything) per connection: one E_RATE_LIMITED, then close 1008', async () => {
+    const server = await serverWith({ WS_MESSAGE_RATE: '2', WS_MESSAGE_BURST: '10', JOIN_RATE: '1000' })
     const { client } = await server.player()
     for (let i = 0; i < 40; i++) client.send({ type: 'join', room: i % 2 ? '8-low' : '8-high', ref: i })
-    await eventually(() => client.messages.filter((m) => m.type === 'joined' || m.type === 'error').length >= 40)
+    const { code, reason } = await client.closed
     const joined = client.messages.filter((m) => m.type === 'joined').length
-    const limited = client.messages.filter((m) => m.code === 'E_RATE_LIMITED').length
+    const limited = client.messages.filter((m) => m.code === 'E_RATE_LIMITED')
     expect(joined).toBeGreaterThanOrEqual(10)
     expect(joined).toBeLessThan(20)
-    expect(joined + limited).toBe(40)
-    expect(client.closeEvent).toBeNull()
+    expect(limited).toHaveLength(1)
+    expect(limited[0].message).toMatch(/per connection; closing/)
+    expect({ code, reason }).toEqual({ code: 1008, reason: 'E_RATE_LIMITED' })
+    // Nothing is answered after the refusal.
+    expect(client.messages.indexOf(limited[0])).toBe(client.messages.length - 1)
+
+    // Protocol-level pings count too.
+    const pinger = await server.player()
+    for (let i = 0; i < 40; i++) pinger.client.socket.ping()
+    expect((await pinger.client.closed).code).toBe(1008)
+    expect(pinger.client.messages.filter((m) => m.code === 'E_RATE_LIMITED')).toHaveLength(1)
   })
 })
 
@@ -308,7 +317,7 @@ describe('slow and vanished clients', () => {
   it('skips snapshots to a client that stops reading, then closes it (1013), keeping its send queue bounded', async () => {
     const SOFT = 16 * 1024
     const HARD = 256 * 1024
-    const server = await serverWith({ SNAPSHOT_HZ: '60', WS_SOFT_BUFFER: String(SOFT), WS_HARD_BUFFER: String(HARD), DROP_RATE: '2000', DROP_BURST: '2000', MAX_BALLS_PER_ROOM: '4096' })
+    const server = await serverWith({ SNAPSHOT_HZ: '60', WS_SOFT_BUFFER: String(SOFT), WS_HARD_BUFFER: String(HARD), DROP_RATE: '2000', DROP_BURST: '2000', MAX_BALLS_PER_ROOM: '4096', WS_MESSAGE_RATE: '100000', WS_MESSAGE_BURST: '100000' })
     const slow = await server.player('16-high')
     const slowConnection = [...server.arena.connections].find((c) => c.account.playerId === slow.session.playerId)
     slow.client.socket._socket.pause()

@@ -45,7 +45,7 @@ const body = fc.oneof(
 )
 
 /** Edges of every typed parameter, each with player and operator credentials. */
-const EDGES = ['0', '-1', '1.5', '1e300', '9007199254740991', '9007199254740992', '99999999999999999999', '-9223372036854775809', 'NaN', '%00', '%ff', '']
+const EDGES = ['0', '-1', '1.5', '1e300', '1e400', '-1e400', 'Infinity', '-Infinity', '1e2', '0x10', '9007199254740991', '9007199254740992', '99999999999999999999', '-9223372036854775809', 'NaN', '%00', '%ff', '']
 const EDGE_URLS = EDGES.flatMap((v) => [
   `/api/drops?before=${v}`, `/api/drops?limit=${v}`, `/api/drops/${v}`, `/api/audit/drops/${v}`, `/api/audit/drops?before=${v}`, `/api/audit/drops?limit=${v}`,
   `/api/audit/drops?from=${v}&to=${v}`, `/api/audit/drops?player=${v}&room=${v}`, `/api/audit/verify?serverSeed=a&clientSeed=b&nonce=${v}`,

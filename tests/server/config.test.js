@@ -27,9 +27,21 @@ describe('configuration', () => {
     expect(CONFIG_VARIABLES).toContain('SNAPSHOT_HZ')
   })
 
+  it('trusts X-Forwarded-For only as far as TRUST_PROXY names the proxies, never the client\'s own left-most hop', () => {
+    expect(loadConfig({}).trustProxy).toBe(false)
+    expect(loadConfig({ TRUST_PROXY: 'false' }).trustProxy).toBe(false)
+    expect(loadConfig({ TRUST_PROXY: '1' }).trustProxy).toBe(1)
+    expect(loadConfig({ TRUST_PROXY: 'loopback' }).trustProxy).toEqual(['loopback'])
+    expect(loadConfig({ TRUST_PROXY: '10.0.0.0/8, 127.0.0.1,::1, fd00::/8' }).trustProxy).toEqual(['10.0.0.0/8', '127.0.0.1', '::1', 'fd00::/8'])
+    for (const bad of ['true', '0', '11', 'yes', '10.0.0.0/33', '300.1.1.1', 'loopback,', 'example.com']) {
+      expect(() => loadConfig({ TRUST_PROXY: bad }), bad).toThrow(/TRUST_PROXY/)
+    }
+    expect(() => loadConfig({ TRUST_PROXY: 'true' })).toThrow(/would believe the client's own X-Forwarded-For/)
+  })
+
   it('parses database URLs', () => {
-    expect(loadConfig({ DATABASE_URL: 'sqlite:/tmp/x.sqlite' }).database).toEqual({ kind: 'sqlite', file: '/tmp/x.sqlite' })
-    expect(loadConfig({ DATABASE_URL: 'sqlite::memory:' }).database).toEqual({ kind: 'sqlite', file: ':memory:' })
+    expect(loadConfig({ DATABASE_URL: 'sqlite:/tmp/x.sqlite' }).database).toEqual({ kind: 'sqlite', file: '/tmp/x.sqlite', busyTimeoutMs: 5000 })
+    expect(loadConfig({ DATABASE_URL: 'sqlite::memory:', SQLITE_BUSY_TIMEOUT_MS: '250' }).database).toEqual({ kind: 'sqlite', file: ':memory:', busyTimeoutMs: 250 })
     expect(loadConfig({ DATABASE_URL: 'postgres://u:p@db:5432/plinko' }).database).toEqual({ kind: 'postgres', url: 'postgres://u:p@db:5432/plinko' })
     expect(loadConfig({ DATABASE_URL: 'postgresql://db/plinko' }).database.kind).toBe('postgres')
   })

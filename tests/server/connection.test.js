@@ -14,6 +14,9 @@ function fakeSocket () {
   socket.close = (code, reason) => { socket.closedWith = { code, reason } }
   socket.ping = () => {}
   socket.terminate = () => { socket.closedWith = { code: 'terminated' } }
+  // ws: stop reading the peer (a socket dropped for abuse is not read any more).
+  socket.paused = false
+  socket.pause = () => { socket.paused = true }
   return socket
 }
 
@@ -60,6 +63,7 @@ describe('Connection backpressure', () => {
     socket.bufferedAmount = 5001
     connection.sendSnapshot(Buffer.from([1]))
     expect(socket.closedWith).toEqual({ code: 1013, reason: 'E_SLOW_CONSUMER' })
+    expect(socket.paused).toBe(true) // not read any more
     expect(await value(metrics, 'plinko_ws_slow_consumers_closed_total')).toBe(1)
     expect(released).toEqual([account])
     const sent = socket.sent.length
@@ -86,6 +90,7 @@ describe('Connection backpressure', () => {
     const flooded = setup()
     for (let i = 0; i < 40; i++) flooded.socket.emit('message', Buffer.from('{"type":"ping"}'), false)
     expect(flooded.socket.closedWith.code).toBe(1008)
+    expect(flooded.socket.paused).toBe(true)
   })
 
   it('terminates a peer that missed a heartbeat', () => {

@@ -1,0 +1,54 @@
+/**
+ * Every write of the SQLite ledger, as transactions prepared on one
+ * connection: the tick's batch (new drops, settlements, credits, nonces,
+ * client seeds), a new player with its first server seed, and a seed
+ * rotation. Run each `.immediate(args)`, so it takes the write lock up
+ * front. The store runs them on its writer thread (sqlite-writer-thread.js),
+ * so no write, and no wait for another process's write lock, ever holds the
+ * event loop; an in-memory database, which has no second connection, runs
+ * them on its own.
+ * @param {import('better-sqlite3').Database} db
+ */
+export function prepareWrites (db) {
+  const insertDrop = db.prepare(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
+      server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
+    VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 'in_flight', ?)`)
+  const settle = db.prepare(`UPDATE drops SET status = 'settled', bucket = ?, multiplier = ?, payout = ?,
+      ticks = ?, state_hash = ?, settled_at = ? WHERE id = ? AND status = 'in_flight'`)
+  const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
+  const nonce = db.prepare('UPDATE server_seeds SET next_nonce = MAX(next_nonce, ?) WHERE id = ?')
+  const clientSeed = db.prepare('UPDATE players SET client_seed = ? WHERE id = ?')
+  const insertPlayer = db.prepare('INSERT INTO players (id, token_hash, balance, client_seed, created_at) VALUES (?, ?, ?, ?, ?)')
+  const insertSeed = db.prepare('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES (?, ?, ?, ?, 1, 0, ?)')
+  const retireSeed = db.prepare('UPDATE server_seeds SET active = 0, revealed_at = ? WHERE id = ? AND player_id = ? AND active = 1')
+
+  return {
+    /** @type {import('better-sqlite3').Transaction<(batch: import('./records.js').LedgerBatch) => void>} */
+    commitBatch: db.transaction((batch) => {
+      for (const d of batch.drops) {
+        insertDrop.run(d.id, d.playerId, d.room, d.rows, d.risk, d.engineVersion, d.serverSeedId,
+          d.serverSeedHash, d.clientSeed, d.nonce, d.dropSeed, d.bet, d.startTick, d.createdAt)
+      }
+      for (const s of batch.settlements) {
+        const { changes } = settle.run(s.bucket, s.multiplier, s.payout, s.ticks, s.stateHash, s.settledAt, s.id)
+        if (changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
+      }
+      for (const b of batch.balances) {
+        if (credit.run(b.delta, b.playerId).changes !== 1) throw new Error(`no player ${b.playerId}`)
+      }
+      for (const n of batch.nonces) nonce.run(n.nextNonce, n.seedId)
+      for (const c of batch.clientSeeds) clientSeed.run(c.clientSeed, c.playerId)
+    }),
+    createPlayer: db.transaction(({ id, tokenHash, balance, clientSeed, createdAt, seed }) => {
+      insertPlayer.run(id, tokenHash, balance, clientSeed, createdAt)
+      insertSeed.run(seed.id, id, seed.seed, seed.hash, createdAt)
+    }),
+    rotateSeed: db.transaction(({ playerId, oldSeedId, newSeed, at }) => {
+      if (retireSeed.run(at, oldSeedId, playerId).changes !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
+      insertSeed.run(newSeed.id, playerId, newSeed.seed, newSeed.hash, at)
+    })
+  }
+}
+
+/** The names of the writes prepareWrites() returns (what the writer thread accepts). */
+export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed'])
