@@ -373,6 +373,31 @@ export class Arena {
     }
   }
 
+  /**
+   * This process may no longer run `roomId` (clustered: its lease went to
+   * another process). Its players are told to join it again; its drops not
+   * yet sent to the ledger never happened (refused, nothing debited); the
+   * rest are recorded or being recorded, and their outcomes fixed, so their
+   * balls are played out now and settled (a settlement is written only
+   * while its drop is in flight, so the new owner's takeover and this never
+   * pay one twice).
+   * @param {string} roomId
+   */
+  evictRoom (roomId) {
+    const room = this.rooms.remove(roomId)
+    if (!room) return
+    for (const client of room.clients) {
+      client.room = null
+      client.sendError('E_ROOM_MOVING', 'this process lost the room; join it again', undefined, { room: roomId, retryAfterMs: 0 })
+    }
+    room.clients.clear()
+    for (const drop of this.ledger.withdrawDrops((d) => d.room === room)) {
+      this._refuse(drop, 'E_ROOM_MOVING', 'the room moved to another process before the drop was recorded; nothing was debited')
+    }
+    let guard = 0
+    while (room.ballsInFlight > 0 && guard++ < 100_000) room.step(this._onLanded)
+  }
+
   // ---- shutdown -----------------------------------------------------------
 
   /** Stops taking joins and drops (they get E_UNAVAILABLE). */

@@ -163,20 +163,13 @@ export class ClusterNode {
 
   /**
    * Our lease passed to another process (we stalled past the TTL): stop
-   * running the room. Its recorded drops are settled by the new owner; its
-   * players are told to move.
+   * running the room (the arena tells its players to move, refuses its
+   * unrecorded drops and settles the recorded ones).
    */
   _evict (roomId) {
     this.owned.delete(roomId)
-    const room = this.arena.rooms.get(roomId)
     this.log.error({ room: roomId }, 'lost the lease of a room to another process')
-    if (!room) return
-    this.arena.rooms.rooms.delete(roomId)
-    for (const client of room.clients) {
-      client.room = null
-      client.sendError('E_ROOM_MOVING', 'this process lost the room; join it again', undefined, { room: roomId, retryAfterMs: 0 })
-    }
-    room.clients.clear()
+    this.arena.evictRoom(roomId)
   }
 
   /** Rooms with drops in flight and no owner: claim them (which settles the drops), then let them go. */

@@ -43,6 +43,18 @@ export class GroupCommit {
   }
 
   /**
+   * Takes back the drops of the open batch (not yet sent to the store) that
+   * match `predicate`: they will never be written.
+   * @param {(drop: import('../arena.js').Drop) => boolean} predicate
+   * @returns {import('../arena.js').Drop[]}
+   */
+  withdrawDrops (predicate) {
+    const withdrawn = this.open.drops.filter(predicate)
+    if (withdrawn.length > 0) this.open.drops = this.open.drops.filter((drop) => !predicate(drop))
+    return withdrawn
+  }
+
+  /**
    * Ends a tick: seals the open batch and queues its transaction, or, while
    * an earlier one is still being written, keeps it open so the following
    * ticks join it. Called once per tick.

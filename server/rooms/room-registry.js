@@ -52,6 +52,15 @@ export class RoomRegistry {
     this.onChange(room)
   }
 
+  /** Removes a room whatever its state (it moved to another process). @param {string} id @returns {Room | undefined} */
+  remove (id) {
+    const room = this.rooms.get(id)
+    if (!room) return undefined
+    this.rooms.delete(id)
+    this.onChange(room)
+    return room
+  }
+
   disposeIdle () {
     for (const room of this.rooms.values()) {
       if (!room.isIdle) continue

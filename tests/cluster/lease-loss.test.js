@@ -1,0 +1,94 @@
+import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import Redis from 'ioredis'
+import { startPostgres } from '../server/helpers/postgres.js'
+import { GameClient } from '../server/helpers/game-client.js'
+import { startRedis, startNode, query, ledgerMismatches, eventually } from './helpers/cluster.js'
+
+/**
+ * A process loses a room's lease with drops in flight, and drops still
+ * arriving (issue #13's bug): another process takes the room over. Every
+ * drop is settled exactly once, and on the process that lost the room the
+ * player can bet its whole balance again.
+ */
+const LEASE_TTL_MS = 1500
+const START = 100000
+
+describe('cluster: a lease lost with drops in flight', () => {
+  let postgres, redis
+  const nodes = []
+  const clients = []
+  beforeAll(async () => { postgres = await startPostgres(); redis = await startRedis() })
+  afterAll(async () => {
+    for (const client of clients) await client.close().catch(() => {})
+    for (const node of nodes) await node.stop().catch(() => {})
+    await redis?.stop()
+    await postgres?.stop()
+  })
+
+  async function connect (node, token) {
+    const client = await GameClient.connect(node.wsUrl(token))
+    clients.push(client)
+    return client
+  }
+  async function join (client, room) {
+    const ref = `join-${room}-${Math.random()}`
+    client.send({ type: 'join', room, ref })
+    return client.take((m) => m.ref === ref)
+  }
+
+  it('settles every drop exactly once and leaves the whole balance available on the process that lost the room', async () => {
+    const databaseUrl = await postgres.createDatabase()
+    for (let i = 0; i < 2; i++) nodes.push(await startNode({ databaseUrl, redisUrl: redis.url, env: { LEASE_TTL_MS: String(LEASE_TTL_MS), DROP_RATE: '200', DROP_BURST: '200' } }))
+    const [a, b] = nodes
+    const alice = await a.session()
+    const onA = await connect(a, alice.token)
+    expect(await join(onA, '16-high')).toMatchObject({ type: 'joined' })
+    // Balls in flight on A, and more arriving every 10 ms while the room moves.
+    for (let i = 0; i < 10; i++) onA.send({ type: 'drop', bet: 7 })
+    for (let i = 0; i < 10; i++) await onA.take('dropped')
+    let sending = true
+    const sender = (async () => {
+      while (sending && onA.socket.readyState === 1) {
+        onA.send({ type: 'drop', bet: 3 })
+        await new Promise((resolve) => setTimeout(resolve, 10))
+      }
+    })()
+    // The lease goes to B: A's expires (here: is deleted) and a player joins the room on B.
+    const redisClient = new Redis(redis.url)
+    try {
+      await redisClient.del('plinko:room:16-high:lease')
+      const bob = await b.session()
+      const onB = await connect(b, bob.token)
+      expect(await join(onB, '16-high')).toMatchObject({ type: 'joined' })
+    } finally {
+      redisClient.disconnect()
+    }
+    const moved = await onA.take((m) => m.type === 'error' && m.code === 'E_ROOM_MOVING', LEASE_TTL_MS * 3)
+    expect(moved.room).toBe('16-high')
+    await new Promise((resolve) => setTimeout(resolve, 200))
+    sending = false
+    await sender
+
+    // Every drop recorded is settled, once; balances add up.
+    const inFlight = async () => query(databaseUrl, "SELECT id FROM drops WHERE status = 'in_flight'")
+    await eventually(async () => (await inFlight()).length === 0, { timeoutMs: 20_000 })
+      .catch(async (error) => { throw new Error(`drops left in flight: ${JSON.stringify(await inFlight())} (${error.message})`) })
+    const rows = await query(databaseUrl, 'SELECT id, bet, payout, status FROM drops WHERE player_id = $1 ORDER BY id', [alice.playerId])
+    expect(rows.length).toBeGreaterThan(10)
+    expect(new Set(rows.map((r) => r.id)).size).toBe(rows.length)
+    expect(await ledgerMismatches(databaseUrl, START)).toEqual([])
+    const [{ balance }] = await query(databaseUrl, 'SELECT balance FROM players WHERE id = $1', [alice.playerId])
+
+    // On A, the whole committed balance can be bet again (nothing stays reserved by the lost room's drops).
+    await eventually(async () => {
+      const again = await GameClient.connect(a.wsUrl(alice.token))
+      clients.push(again)
+      return again.welcome.balance === Number(balance)
+    }, { timeoutMs: 10_000 })
+    const onA2 = await connect(a, alice.token)
+    expect(await join(onA2, '8-low')).toMatchObject({ type: 'joined' })
+    onA2.send({ type: 'drop', bet: Number(balance), ref: 'all-in' })
+    const reply = await onA2.take((m) => m.ref === 'all-in')
+    expect(reply, JSON.stringify(reply)).toMatchObject({ type: 'dropped', bet: Number(balance) })
+  }, 120_000)
+})
