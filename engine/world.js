@@ -133,7 +133,7 @@ export class World {
     this.state = state
     const u8 = (name) => { const a = new Uint8Array(capacity); if (old) a.set(old[name]); return a }
     this.collidesWithBodies = u8('collidesWithBodies')
-    /** bodies _advanceBodies() hands to _advanceBody() this step */
+    /** bodies the fast loop of _advanceBodies() hands to its full swept path this step */
     this._handedOver = new Int32Array(capacity)
     const i32 = (name) => { const a = new Int32Array(capacity); if (old) a.set(old[name]); return a }
     this._freeIds = i32('_freeIds')
@@ -291,13 +291,15 @@ export class World {
   }
 
   /**
-   * Moves every live body through its sub-steps against the static shapes.
-   * Most bodies, most steps, need one sub-step and hit nothing: this loop
-   * moves those itself and leaves the rest (a possible impact, a fast body)
-   * to _advanceBody(), which does the full swept path. The loop makes no
-   * call and works on locals; a body it hands over keeps its state (only
-   * its previous pose is recorded), and the arithmetic is the same, so both
-   * ways give the same bits.
+   * Moves every live body through its sub-steps against the static shapes,
+   * in two loops on one set of locals. Most bodies, most steps, need one
+   * sub-step and hit nothing: the first loop moves those itself and hands
+   * the rest (a possible impact, a fast body) to the second, the full swept
+   * path. A handed-over body keeps its state (only its previous pose is
+   * recorded), and the arithmetic is the same, so both ways give the same
+   * bits. Pegs are swept inline (no call per candidate): the same time of
+   * impact as StaticShapes.sweep(), the reference, which segments go
+   * through; tests/engine/sweep-reference.test.js holds the two to the bit.
    * @param {number} count
    */
   _advanceBodies (count) {
@@ -315,6 +317,13 @@ export class World {
     const items = grid.items
     const records = this._gridRecords
     const shapeParams = this.statics.params
+    const maxSubsteps = MAX_SUBSTEPS
+    const maxImpacts = MAX_IMPACTS_PER_SUBSTEP
+    const sweepDx = SWEEP_DX; const sweepDy = SWEEP_DY; const sweepTime = SWEEP_TIME
+    const sweepNx = SWEEP_NX; const sweepNy = SWEEP_NY; const sweepDepth = SWEEP_DEPTH
+    const statics = this.statics
+    const sweep = this._sweep
+    const contact = this._contact
     const st = this.state
     const handedOver = this._handedOver
     let handedOverCount = 0
@@ -327,7 +336,7 @@ export class World {
       st[b + PREVIOUS_ANGLE] = angle0
       let vx = st[b + VX]; let vy = st[b + VY]
       const radius = st[b + RADIUS]
-      // The sub-step count as _advanceBody() works it out: more than one hands the body over.
+      // The sub-step count as the full path works it out: more than one hands the body over.
       const speedX = (vx < 0 ? -vx : vx) + absGx * dt
       const speedY = (vy < 0 ? -vy : vy) + absGy * dt
       const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
@@ -367,133 +376,107 @@ export class World {
       st[b + VX] = vx; st[b + VY] = vy
       st[b + ANGLE] = angle
     }
-    for (let k = 0; k < handedOverCount; k++) this._advanceBody(handedOver[k])
-  }
-
-  /**
-   * The full step of body i: sub-steps of at most maxTravel, each a straight
-   * path swept against the static shapes, stopping at every first impact to
-   * resolve it and carrying on with the new velocity.
-   * @param {number} i
-   */
-  _advanceBody (i) {
-    const maxSubsteps = MAX_SUBSTEPS
-    const maxImpacts = MAX_IMPACTS_PER_SUBSTEP
-    const maxTravelPerSubstep = MAX_TRAVEL_PER_SUBSTEP
-    const gridRecord = GRID_RECORD
-    const paramsPerShape = PARAMS_PER_SHAPE
-    const slabTolerance = SLAB_TOLERANCE
-    const sweepDx = SWEEP_DX; const sweepDy = SWEEP_DY; const sweepTime = SWEEP_TIME
-    const sweepNx = SWEEP_NX; const sweepNy = SWEEP_NY; const sweepDepth = SWEEP_DEPTH
-    const dt = this.timestep
-    const gx = this.gravityX
-    const gy = this.gravityY
-    const absGx = gx < 0 ? -gx : gx
-    const absGy = gy < 0 ? -gy : gy
-    const grid = this.staticGrid
-    const cellStart = grid.cellStart
-    const items = grid.items
-    const records = this._gridRecords
-    const statics = this.statics
-    const shapeParams = statics.params
-    const sweep = this._sweep
-    const contact = this._contact
-    const st = this.state
-    const base = i * STRIDE
-    let vx = st[base + VX]; let vy = st[base + VY]
-    let angle = st[base + ANGLE]
-    const radius = st[base + RADIUS]
-    // Speed bound over the whole step (current speed plus what gravity adds),
-    // compared squared so no root is needed.
-    const speedX = (vx < 0 ? -vx : vx) + absGx * dt
-    const speedY = (vy < 0 ? -vy : vy) + absGy * dt
-    const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
-    const maxTravel = radius * maxTravelPerSubstep
-    const maxTravel2 = maxTravel * maxTravel
-    let substeps = 1
-    while (substeps < maxSubsteps && travel2 > substeps * substeps * maxTravel2) substeps++
-    const h = dt / substeps
-    for (let s = 0; s < substeps; s++) {
-      vx += gx * h
-      vy += gy * h
-      angle += st[base + SPIN] * h
-      if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
-      // Move along the straight sub-step path, stopping at each first impact
-      // to resolve it, then carrying on with the new velocity.
-      let remaining = 1
-      for (let impact = 0; impact < maxImpacts && remaining > 0; impact++) {
-        const x = st[base + X]; const y = st[base + Y]
-        const cell = grid.cellAt(x, y)
-        const dx = vx * h * remaining
-        const dy = vy * h * remaining
-        let first = -1
-        let firstTime = 2
-        if (cell >= 0) {
-          const pathLength2 = dx * dx + dy * dy
-          for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
-            const r = k * gridRecord
-            const pegRadius = records[r + 2]
-            if (pegRadius > 0) {
-              // Most candidates are pegs the path does not reach: reject
-              // them first. The rest is the sweep of static-shapes.js
-              // (sweepPoint), written out so a peg costs no call.
-              const mx = x - records[r]; const my = y - records[r + 1]
-              const b = mx * dx + my * dy
-              const reach = radius + pegRadius
-              const reach2 = reach * reach
-              const c = mx * mx + my * my - reach2
-              if (pegPathMisses(b, c, pathLength2)) continue
-              if (c > 0) {
-                const discriminant = b * b - pathLength2 * c
-                if (discriminant < 0) continue
-                // The smaller root (-b - √D)/a as c/(-b + √D): no cancellation.
-                const t = c / (-b + Math.sqrt(discriminant))
-                if (t > 1 || !(t < firstTime)) continue
-                first = items[k]
-                firstTime = t
-                contact[sweepNx] = (mx + dx * t) / reach; contact[sweepNy] = (my + dy * t) / reach; contact[sweepDepth] = 0
-              } else if (firstTime > 0) {
-                // Already touching and approaching: contact now.
-                const dist2 = c + reach2
-                first = items[k]
-                firstTime = 0
-                if (dist2 > 0) {
-                  const dist = Math.sqrt(dist2)
-                  contact[sweepNx] = mx / dist; contact[sweepNy] = my / dist; contact[sweepDepth] = reach - dist
-                } else {
-                  contact[sweepNx] = 0; contact[sweepNy] = -1; contact[sweepDepth] = reach
+    // The rest: the full swept path of each handed-over body, sub-steps of at most
+    // maxTravel, each a straight path swept against the static shapes, stopping
+    // at every first impact to resolve it and carrying on with the new velocity.
+    for (let k = 0; k < handedOverCount; k++) {
+      const i = handedOver[k]
+      const base = i * STRIDE
+      let vx = st[base + VX]; let vy = st[base + VY]
+      let angle = st[base + ANGLE]
+      const radius = st[base + RADIUS]
+      // Speed bound over the whole step (current speed plus what gravity adds),
+      // compared squared so no root is needed.
+      const speedX = (vx < 0 ? -vx : vx) + absGx * dt
+      const speedY = (vy < 0 ? -vy : vy) + absGy * dt
+      const travel2 = (speedX * speedX + speedY * speedY) * dt * dt
+      const maxTravel = radius * maxTravelPerSubstep
+      const maxTravel2 = maxTravel * maxTravel
+      let substeps = 1
+      while (substeps < maxSubsteps && travel2 > substeps * substeps * maxTravel2) substeps++
+      const h = dt / substeps
+      for (let s = 0; s < substeps; s++) {
+        vx += gx * h
+        vy += gy * h
+        angle += st[base + SPIN] * h
+        if (angle >= TWO_PI || angle < 0) angle -= Math.floor(angle / TWO_PI) * TWO_PI
+        // Move along the straight sub-step path, stopping at each first impact
+        // to resolve it, then carrying on with the new velocity.
+        let remaining = 1
+        for (let impact = 0; impact < maxImpacts && remaining > 0; impact++) {
+          const x = st[base + X]; const y = st[base + Y]
+          const cell = grid.cellAt(x, y)
+          const dx = vx * h * remaining
+          const dy = vy * h * remaining
+          let first = -1
+          let firstTime = 2
+          if (cell >= 0) {
+            const pathLength2 = dx * dx + dy * dy
+            for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
+              const r = k * gridRecord
+              const pegRadius = records[r + 2]
+              if (pegRadius > 0) {
+                // Most candidates are pegs the path does not reach: reject
+                // them first. The rest is the sweep of static-shapes.js
+                // (sweepPoint), written out so a peg costs no call.
+                const mx = x - records[r]; const my = y - records[r + 1]
+                const b = mx * dx + my * dy
+                const reach = radius + pegRadius
+                const reach2 = reach * reach
+                const c = mx * mx + my * my - reach2
+                if (pegPathMisses(b, c, pathLength2)) continue
+                if (c > 0) {
+                  const discriminant = b * b - pathLength2 * c
+                  if (discriminant < 0) continue
+                  // The smaller root (-b - √D)/a as c/(-b + √D): no cancellation.
+                  const t = c / (-b + Math.sqrt(discriminant))
+                  if (t > 1 || !(t < firstTime)) continue
+                  first = items[k]
+                  firstTime = t
+                  contact[sweepNx] = (mx + dx * t) / reach; contact[sweepNy] = (my + dy * t) / reach; contact[sweepDepth] = 0
+                } else if (firstTime > 0) {
+                  // Already touching and approaching: contact now.
+                  const dist2 = c + reach2
+                  first = items[k]
+                  firstTime = 0
+                  if (dist2 > 0) {
+                    const dist = Math.sqrt(dist2)
+                    contact[sweepNx] = mx / dist; contact[sweepNy] = my / dist; contact[sweepDepth] = reach - dist
+                  } else {
+                    contact[sweepNx] = 0; contact[sweepNy] = -1; contact[sweepDepth] = reach
+                  }
                 }
+                continue
               }
-              continue
-            }
-            // A segment (wall).
-            const shape = items[k]
-            const p = shape * paramsPerShape
-            const nx = shapeParams[p + 4]; const ny = shapeParams[p + 5]
-            const sideStart = (x - shapeParams[p]) * nx + (y - shapeParams[p + 1]) * ny
-            if (segmentPathMisses(sideStart, sideStart + dx * nx + dy * ny, radius + slabTolerance)) continue
-            // Strictly earlier wins, so ties go to the lowest shape id.
-            sweep[sweepDx] = dx; sweep[sweepDy] = dy
-            if (statics.sweep(shape, st, base, sweep) && sweep[sweepTime] < firstTime) {
-              first = shape
-              firstTime = sweep[sweepTime]
-              contact[sweepNx] = sweep[sweepNx]; contact[sweepNy] = sweep[sweepNy]; contact[sweepDepth] = sweep[sweepDepth]
+              // A segment (wall).
+              const shape = items[k]
+              const p = shape * paramsPerShape
+              const nx = shapeParams[p + 4]; const ny = shapeParams[p + 5]
+              const sideStart = (x - shapeParams[p]) * nx + (y - shapeParams[p + 1]) * ny
+              if (segmentPathMisses(sideStart, sideStart + dx * nx + dy * ny, radius + slabTolerance)) continue
+              // Strictly earlier wins, so ties go to the lowest shape id.
+              sweep[sweepDx] = dx; sweep[sweepDy] = dy
+              if (statics.sweep(shape, st, base, sweep) && sweep[sweepTime] < firstTime) {
+                first = shape
+                firstTime = sweep[sweepTime]
+                contact[sweepNx] = sweep[sweepNx]; contact[sweepNy] = sweep[sweepNy]; contact[sweepDepth] = sweep[sweepDepth]
+              }
             }
           }
+          if (first < 0) {
+            st[base + X] = x + dx; st[base + Y] = y + dy
+            break
+          }
+          st[base + X] = x + dx * firstTime; st[base + Y] = y + dy * firstTime
+          remaining -= remaining * firstTime
+          st[base + VX] = vx; st[base + VY] = vy
+          solveStaticContact(st, base, statics, first, contact)
+          vx = st[base + VX]; vy = st[base + VY]
         }
-        if (first < 0) {
-          st[base + X] = x + dx; st[base + Y] = y + dy
-          break
-        }
-        st[base + X] = x + dx * firstTime; st[base + Y] = y + dy * firstTime
-        remaining -= remaining * firstTime
-        st[base + VX] = vx; st[base + VY] = vy
-        solveStaticContact(st, base, statics, first, contact)
-        vx = st[base + VX]; vy = st[base + VY]
       }
+      st[base + VX] = vx; st[base + VY] = vy
+      st[base + ANGLE] = angle
     }
-    st[base + VX] = vx; st[base + VY] = vy
-    st[base + ANGLE] = angle
   }
 
   _collidePair (i, j) {
