@@ -8,6 +8,7 @@ COPY package.json package-lock.json ./
 # Production dependencies only; better-sqlite3 ships prebuilt binaries for linux x64/arm64.
 RUN npm ci --omit=dev && npm cache clean --force
 COPY engine ./engine
+COPY protocol ./protocol
 COPY server ./server
 COPY client ./client
 COPY bin ./bin

@@ -19,7 +19,7 @@ import WebSocket from 'ws'
 import { startPostgres } from '../tests/server/helpers/postgres.js'
 import { freePort } from '../scripts/free-port.js'
 import { startRedis } from '../scripts/redis-process.js'
-import { ROOM_IDS } from '../server/rooms/room-id.js'
+import { ROOM_IDS } from '../protocol/room-id.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const { values } = parseArgs({ options: { step: { type: 'string', default: '250' }, max: { type: 'string', default: '3000' }, hold: { type: 'string', default: '10' }, interval: { type: 'string', default: '2000' } } })

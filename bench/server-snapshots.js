@@ -15,7 +15,7 @@
 import WebSocket from 'ws'
 import { buildApp } from '../server/app.js'
 import { withBenchLedger } from './temp-ledger.js'
-import { decodeSnapshot, splitRoomFrame } from '../server/rooms/snapshot-codec.js'
+import { decodeSnapshot, splitRoomFrame } from '../protocol/snapshot-codec.js'
 import { formatTable, fixed, int } from './table.js'
 
 const BALLS = 50

@@ -1,9 +1,10 @@
 import { sha256Hex, MIN_ROWS, MAX_ROWS, ENGINE_VERSIONS, ENGINE_VERSION } from '/engine/index.js'
 import { byId, el, fill, shortHex } from './dom.js'
+import { CLIENT_SEED_PATTERN } from '/protocol/client-messages.js'
 import { checkFairness } from './fair-check.js'
 
-/** Client seeds the server accepts: 1 to 64 printable ASCII characters. */
-const CLIENT_SEED = /^[\x20-\x7e]{1,64}$/
+/** Client seeds the server accepts (the protocol's rule): 1 to 64 printable ASCII characters. */
+const CLIENT_SEED = new RegExp(CLIENT_SEED_PATTERN)
 
 /**
  * The fairness panel: the committed server seed hash, the client seed

@@ -76,7 +76,7 @@ export class RoomView {
 
   /**
    * Checks a snapshot's positions against the local simulations.
-   * @param {import('./protocol.js').Snapshot} snapshot
+   * @param {import('/protocol/snapshot-codec.js').Snapshot} snapshot
    */
   check (snapshot) {
     for (let i = 0; i < snapshot.slots.length; i++) {
@@ -93,8 +93,8 @@ export class RoomView {
    * Ball poses at render tick `tick`, between snapshots `a` and `b`.
    * The returned array is reused by the next call.
    * @param {number} tick
-   * @param {import('./protocol.js').Snapshot | null} a
-   * @param {import('./protocol.js').Snapshot | null} b
+   * @param {import('/protocol/snapshot-codec.js').Snapshot | null} a
+   * @param {import('/protocol/snapshot-codec.js').Snapshot | null} b
    * @returns {BallPose[]}
    */
   posesAt (tick, a, b) {

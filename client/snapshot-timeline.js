@@ -35,7 +35,7 @@ const RATE_MAX_SAMPLES = 512
 const RATE_MIN_SPAN_MS = 1000
 const MAX_BUFFERED = 120
 
-/** @typedef {import('./protocol.js').Snapshot} Snapshot */
+/** @typedef {import('/protocol/snapshot-codec.js').Snapshot} Snapshot */
 
 export class SnapshotTimeline {
   /**

@@ -25,7 +25,7 @@ import Database from 'better-sqlite3'
 import WebSocket from 'ws'
 import { createBoard, simulateDrop } from '../engine/index.js'
 import { payoutFor } from '../server/fairness/payout.js'
-import { ROOM_IDS } from '../server/rooms/room-id.js'
+import { ROOM_IDS } from '../protocol/room-id.js'
 import { startServerProcess } from './server-process.js'
 
 const OPERATOR_TOKEN = 'soak-operator-token-0123456789abcdef'

@@ -1,7 +1,7 @@
 import os from 'node:os'
 import { randomBytes } from 'node:crypto'
 import Redis from 'ioredis'
-import { parseRoomId } from '../rooms/room-id.js'
+import { parseRoomId } from '../../protocol/room-id.js'
 import { gameError } from '../errors.js'
 import { settleInterruptedDrops } from '../ledger/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'

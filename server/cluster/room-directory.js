@@ -1,4 +1,4 @@
-import { ROOM_IDS } from '../rooms/room-id.js'
+import { ROOM_IDS } from '../../protocol/room-id.js'
 import { Leases } from './lease.js'
 
 /**

@@ -9,8 +9,9 @@ import { dropSeedMessage } from '../../engine/fairness.js'
  *   dropSeed       = hmac_sha256_hex(key = serverSeed, message = clientSeed + ":" + nonce)
  */
 
-/** Client seeds: 1 to 64 printable ASCII characters (space to tilde). */
-export const CLIENT_SEED_PATTERN = '^[\\x20-\\x7e]{1,64}$'
+import { CLIENT_SEED_PATTERN } from '../../protocol/client-messages.js'
+
+export { CLIENT_SEED_PATTERN }
 const clientSeedRegExp = new RegExp(CLIENT_SEED_PATTERN)
 
 /** @param {string} text @returns {string} 64 hex digits */

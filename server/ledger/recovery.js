@@ -1,5 +1,6 @@
 import { isEngineVersion, simulateDrop } from '../../engine/index.js'
-import { boardOf, parseRoomId, roomIdOf } from '../rooms/room-id.js'
+import { parseRoomId, roomIdOf } from '../../protocol/room-id.js'
+import { boardOf } from '../rooms/boards.js'
 import { payoutFor } from '../fairness/payout.js'
 
 /**

@@ -1,34 +1,8 @@
 import Ajv from 'ajv'
-import { CLIENT_SEED_PATTERN } from '../fairness/seeds.js'
+import { clientMessageSchemas } from '../../protocol/client-messages.js'
 import { gameError } from '../errors.js'
 
-/**
- * JSON schemas of every client → server message. A message is checked
- * against the schema of its `type` before any handler sees it; unknown
- * properties are refused. An optional `ref` (string up to 64 characters or
- * integer) is echoed in the direct reply, so a client can match errors to
- * its requests.
- */
-const ref = { anyOf: [{ type: 'string', maxLength: 64 }, { type: 'integer' }] }
-
-/** @param {{ minBet: number, maxBet: number }} limits */
-export function clientMessageSchemas ({ minBet, maxBet }) {
-  const message = (type, properties = {}, required = []) => ({
-    type: 'object',
-    properties: { type: { const: type }, ref, ...properties },
-    required: ['type', ...required],
-    additionalProperties: false
-  })
-  return {
-    join: message('join', { room: { type: 'string', maxLength: 32 } }, ['room']),
-    leave: message('leave'),
-    drop: message('drop', {
-      bet: { type: 'integer', minimum: minBet, maximum: maxBet },
-      clientSeed: { type: 'string', pattern: CLIENT_SEED_PATTERN }
-    }, ['bet']),
-    ping: message('ping')
-  }
-}
+export { clientMessageSchemas }
 
 /** Which error code a schema failure on a given field is reported as. */
 const FIELD_CODES = { '/bet': 'E_BAD_BET', '/clientSeed': 'E_BAD_SEED', '/room': 'E_UNKNOWN_ROOM' }

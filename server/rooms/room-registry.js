@@ -1,5 +1,6 @@
 import { Room } from './room.js'
-import { parseRoomId, boardOf, ROOM_INSTANCES } from './room-id.js'
+import { parseRoomId, ROOM_INSTANCES } from '../../protocol/room-id.js'
+import { boardOf } from './boards.js'
 import { gameError } from '../errors.js'
 
 /**

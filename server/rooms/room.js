@@ -1,5 +1,5 @@
 import { DropSimulator, BODY_STRIDE, BODY_X, BODY_Y } from '../../engine/index.js'
-import { encodeSnapshot, encodeRoomFrame } from './snapshot-codec.js'
+import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
 
 /**
  * One board, its simulator and the connections watching it. Lifecycle:

@@ -4,7 +4,8 @@ import { requireOperator } from '../auth.js'
 import { gameError } from '../errors.js'
 import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
 import { payoutFor } from '../fairness/payout.js'
-import { boardOf, parseRoomId } from '../rooms/room-id.js'
+import { parseRoomId } from '../../protocol/room-id.js'
+import { boardOf } from '../rooms/boards.js'
 import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
 
 const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }

@@ -4,13 +4,18 @@ import path from 'node:path'
 import { createRequire } from 'node:module'
 import { fileURLToPath } from 'node:url'
 
-const ENGINE_DIR = fileURLToPath(new URL('../../engine/', import.meta.url))
+/** Folders the browser runs as they are in the repository, by URL prefix: the engine and the wire format. */
+const SHARED_DIRS = {
+  engine: fileURLToPath(new URL('../../engine/', import.meta.url)),
+  protocol: fileURLToPath(new URL('../../protocol/', import.meta.url))
+}
 const require = createRequire(import.meta.url)
 
 /**
- * What the browser needs besides client/ to run the very same engine as the
- * server, with no build step:
+ * What the browser needs besides client/ to run the very same engine and
+ * wire format as the server, with no build step:
  *   GET /engine/PATH.js        the repository's engine/ files (and engine/versions/), as they are
+ *   GET /protocol/PATH.js      the repository's protocol/ files (frames, room ids, message schemas)
  *   GET /vendor/seedrandom.js  seedrandom as an ES module
  * The pages map the engine's one bare import, 'seedrandom', to
  * /vendor/seedrandom.js with an inline import map (see inlineScriptHashes
@@ -18,21 +23,22 @@ const require = createRequire(import.meta.url)
  * @param {import('fastify').FastifyInstance} app
  */
 export default async function clientAssetRoutes (app) {
-  const engineFiles = new Map()
-  for (const name of fs.readdirSync(ENGINE_DIR, { recursive: true })) {
-    if (name.endsWith('.js')) engineFiles.set(name.split(path.sep).join('/'), fs.readFileSync(path.join(ENGINE_DIR, name), 'utf8'))
+  // Read once: a change needs a restart, like the server's own copy. Static
+  // and cheap, so outside the per-IP rate limit (a page load fetches every module).
+  for (const [prefix, dir] of Object.entries(SHARED_DIRS)) {
+    const files = new Map()
+    for (const name of fs.readdirSync(dir, { recursive: true })) {
+      if (name.endsWith('.js')) files.set(name.split(path.sep).join('/'), fs.readFileSync(path.join(dir, name), 'utf8'))
+    }
+    app.get(`/${prefix}/*`, { config: { rateLimit: false }, schema: { summary: `A ${prefix} module, for the browser` } }, (request, reply) => {
+      const file = request.params['*']
+      const source = files.get(file)
+      if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no ${prefix} file ${file}` })
+      return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(source)
+    })
   }
   const seedrandom = seedrandomModule()
 
-  // Engine files are read once: an engine change needs a restart, like the
-  // server's own copy. Static and cheap, so outside the per-IP rate limit
-  // (a page load fetches every engine module).
-  app.get('/engine/*', { config: { rateLimit: false }, schema: { summary: 'An engine module, for the browser' } }, (request, reply) => {
-    const file = request.params['*']
-    const source = engineFiles.get(file)
-    if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no engine file ${file}` })
-    return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(source)
-  })
   app.get('/vendor/seedrandom.js', { config: { rateLimit: false }, schema: { summary: 'seedrandom as an ES module, for the browser' } }, (request, reply) => {
     return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(seedrandom)
   })

@@ -1,4 +1,4 @@
-import { ROOM_IDS } from '../rooms/room-id.js'
+import { ROOM_IDS } from '../../protocol/room-id.js'
 
 /**
  * GET /api/rooms: rooms alive now, and every room id that can be joined.

@@ -1,7 +1,7 @@
 import { describe, it, expect, beforeAll } from 'vitest'
 import { createHash } from 'node:crypto'
 import { createBoard, simulateDrop } from '../../engine/index.js'
-import { quantizePosition } from '../../server/rooms/snapshot-codec.js'
+import { quantizePosition } from '../../protocol/snapshot-codec.js'
 import { STORE_KINDS } from './helpers/stores.js'
 import { useServerOn, eventually } from './helpers/server.js'
 
@@ -69,7 +69,8 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
     // Every snapshot is the replay at that tick, quantized to 0.5 px; the slot is absent after landing.
     let seen = 0
     for (const snapshot of client.snapshots) {
-      const ball = snapshot.balls.find((b) => b.slot === dropped.slot)
+      const index = [...snapshot.slots].indexOf(dropped.slot)
+      const ball = index < 0 ? undefined : { x: snapshot.xs[index], y: snapshot.ys[index] }
       const age = snapshot.tick - dropped.startTick
       if (age >= settled.ticks) {
         expect(ball).toBeUndefined()

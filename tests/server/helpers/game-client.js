@@ -1,5 +1,5 @@
 import WebSocket from 'ws'
-import { decodeSnapshot, splitRoomFrame } from '../../../server/rooms/snapshot-codec.js'
+import { decodeSnapshot, splitRoomFrame } from '../../../protocol/snapshot-codec.js'
 
 /**
  * A test player on a real WebSocket. Every JSON message and decoded

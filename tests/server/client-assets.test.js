@@ -1,6 +1,7 @@
 /**
- * How the browser gets the engine (no browser needed): the pages, the
- * repository's engine/ files at /engine/, seedrandom as an ES module at
+ * How the browser gets the engine and the wire format (no browser needed):
+ * the pages, the repository's engine/ files at /engine/ and protocol/ files
+ * at /protocol/, byte for byte the server's own, seedrandom as an ES module at
  * /vendor/seedrandom.js, and a Content-Security-Policy that admits the
  * pages' inline import maps by hash and no other inline script.
  */
@@ -9,9 +10,10 @@ import { createHash } from 'node:crypto'
 import { readFileSync, readdirSync } from 'node:fs'
 import { fileURLToPath } from 'node:url'
 import seedrandom from 'seedrandom'
-import { startArenaServer, CLIENT_DIR } from './helpers/arena-server.js'
+import { startArenaServer, CLIENT_DIR } from '../e2e/helpers/arena-server.js'
 
 const ENGINE_DIR = fileURLToPath(new URL('../../engine/', import.meta.url))
+const PROTOCOL_DIR = fileURLToPath(new URL('../../protocol/', import.meta.url))
 
 let server
 
@@ -43,6 +45,20 @@ describe('client assets', () => {
       expect(response.text).toBe(readFileSync(`${ENGINE_DIR}/${name}`, 'utf8'))
     }
     for (const url of ['/engine/nope.js', '/engine/..%2Fpackage.json', '/engine/../server/app.js', '/engine/versions/../../server/app.js', '/engine/versions/%2e%2e/%2e%2e/server/app.js', '/engine/versions/..%2F..%2Fpackage.json']) {
+      expect((await server.api('GET', url)).status, url).toBe(404)
+    }
+  })
+
+  it('serves every protocol file unchanged at /protocol/, and nothing else from there', async () => {
+    const names = readdirSync(PROTOCOL_DIR).filter((n) => n.endsWith('.js'))
+    expect(names).toEqual(expect.arrayContaining(['snapshot-codec.js', 'room-id.js', 'client-messages.js']))
+    for (const name of names) {
+      const response = await server.api('GET', `/protocol/${name}`)
+      expect(response.status, name).toBe(200)
+      expect(response.headers['content-type']).toMatch(/^text\/javascript/)
+      expect(response.text).toBe(readFileSync(`${PROTOCOL_DIR}/${name}`, 'utf8'))
+    }
+    for (const url of ['/protocol/nope.js', '/protocol/..%2Fpackage.json', '/protocol/../server/app.js']) {
       expect((await server.api('GET', url)).status, url).toBe(404)
     }
   })
