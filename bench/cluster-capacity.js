@@ -16,10 +16,11 @@ import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import WebSocket from 'ws'
-import { startPostgres } from '../tests/server/helpers/postgres.js'
-import { freePort } from '../scripts/free-port.js'
-import { startRedis } from '../scripts/redis-process.js'
+import { startPostgres } from '../tools/postgres-process.js'
+import { freePort } from '../tools/free-port.js'
+import { startRedis } from '../tools/redis-process.js'
 import { ROOM_IDS } from '../protocol/room-id.js'
+import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const { values } = parseArgs({ options: { step: { type: 'string', default: '250' }, max: { type: 'string', default: '3000' }, hold: { type: 'string', default: '10' }, interval: { type: 'string', default: '2000' } } })
@@ -32,7 +33,7 @@ async function startServer (env) {
   const port = await freePort()
   const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
     cwd: ROOT,
-    env: { ...process.env, PORT: String(port), HOST: '127.0.0.1', LOG_LEVEL: 'warn', OPERATOR_TOKEN: 'operator-token-for-bench-0123456789', CLIENT_DIR: '/nonexistent', HTTP_RATE_LIMIT: '1000000000', SESSION_RATE_LIMIT: '1000000000', DROP_RATE_PER_IP: '1000000', JOIN_RATE_PER_IP: '1000000', WS_MAX_CONNECTIONS_PER_IP: '1000000', WS_MAX_CONNECTIONS: '1000000', ...env, PUBLIC_URL: env.REDIS_URL ? `http://127.0.0.1:${port}` : '' },
+    env: { ...process.env, PORT: String(port), HOST: '127.0.0.1', LOG_LEVEL: 'warn', OPERATOR_TOKEN: 'operator-token-for-bench-0123456789', CLIENT_DIR: '/nonexistent', ...LIFTED_LIMITS, ...env, PUBLIC_URL: env.REDIS_URL ? `http://127.0.0.1:${port}` : '' },
     stdio: ['ignore', 'inherit', 'inherit']
   })
   const url = `http://127.0.0.1:${port}`

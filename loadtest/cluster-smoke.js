@@ -16,9 +16,10 @@ import { spawn } from 'node:child_process'
 import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
-import { startPostgres } from '../tests/server/helpers/postgres.js'
-import { query, ledgerMismatches } from '../tests/cluster/helpers/cluster.js'
-import { freePort } from '../scripts/free-port.js'
+import { startPostgres } from '../tools/postgres-process.js'
+import { query, ledgerMismatches } from '../tools/ledger-checks.js'
+import { freePort } from '../tools/free-port.js'
+import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const STARTING_BALANCE = 100000
@@ -56,11 +57,7 @@ try {
       LOG_LEVEL: 'warn',
       STARTING_BALANCE: String(STARTING_BALANCE),
       // Every virtual player comes from 127.0.0.1.
-      HTTP_RATE_LIMIT: '1000000000',
-      SESSION_RATE_LIMIT: '1000000000',
-      WS_MAX_CONNECTIONS_PER_IP: '1000000',
-      DROP_RATE_PER_IP: '1000000',
-      JOIN_RATE_PER_IP: '1000000'
+      ...LIFTED_LIMITS
     }
   })
   await waitForWorkers(base, Number(values.workers))

@@ -17,7 +17,7 @@ import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import { createProxy } from '../server/cluster/proxy.js'
-import { startRedis } from './redis-process.js'
+import { startRedis } from '../tools/redis-process.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const { values } = parseArgs({

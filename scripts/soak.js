@@ -26,7 +26,8 @@ import WebSocket from 'ws'
 import { createBoard, simulateDrop } from '../engine/index.js'
 import { payoutFor } from '../server/fairness/payout.js'
 import { ROOM_IDS } from '../protocol/room-id.js'
-import { startServerProcess } from './server-process.js'
+import { startServerProcess } from '../tools/server-process.js'
+import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
 
 const OPERATOR_TOKEN = 'soak-operator-token-0123456789abcdef'
 const START = 100000
@@ -71,11 +72,7 @@ function startServer () {
   return startServerProcess(databaseUrl, {
     OPERATOR_TOKEN,
     STARTING_BALANCE: String(START),
-    HTTP_RATE_LIMIT: '1000000000',
-    SESSION_RATE_LIMIT: '1000000000',
-    DROP_RATE_PER_IP: '1000000',
-    JOIN_RATE_PER_IP: '1000000',
-    WS_MAX_CONNECTIONS_PER_IP: '1000000',
+    ...LIFTED_LIMITS,
     CLIENT_DIR: path.join(tempDir, 'no-client')
   })
 }

@@ -3,7 +3,8 @@ import path from 'node:path'
 import { spawn } from 'node:child_process'
 import { randomBytes } from 'node:crypto'
 import { fileURLToPath } from 'node:url'
-import { freePort } from '../../scripts/free-port.js'
+import { freePort } from '../../tools/free-port.js'
+import { LIFTED_LIMITS } from '../../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..')
 const SERVER_ENTRY = path.join(ROOT, 'server', 'server.js')
@@ -37,13 +38,8 @@ export async function startServer ({ dataDir, logFile, env = {}, profileDir, cpu
     DATABASE_URL: `sqlite:${path.join(dataDir, 'ledger.sqlite')}`,
     OPERATOR_TOKEN: randomBytes(24).toString('hex'),
     LOG_LEVEL: 'warn',
-    HTTP_RATE_LIMIT: '1000000000',
-    SESSION_RATE_LIMIT: '1000000000',
-    DROP_RATE_PER_IP: '1000000',
-    JOIN_RATE_PER_IP: '1000000',
-    // Every virtual user connects from 127.0.0.1: lift the per-IP WebSocket cap (default 50).
-    WS_MAX_CONNECTIONS_PER_IP: '1000000',
-    WS_MAX_CONNECTIONS: '1000000',
+    // Every virtual user connects from 127.0.0.1.
+    ...LIFTED_LIMITS,
     ...env
   }
   const log = fs.openSync(logFile, 'a')

@@ -3,7 +3,7 @@ import { spawn } from 'node:child_process'
 import net from 'node:net'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
-import { startPostgres } from '../server/helpers/postgres.js'
+import { startPostgres } from '../../tools/postgres-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
 import { startRedis, eventually, OPERATOR_TOKEN } from './helpers/cluster.js'
 

@@ -1,6 +1,6 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import Redis from 'ioredis'
-import { startPostgres } from '../server/helpers/postgres.js'
+import { startPostgres } from '../../tools/postgres-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
 import { startRedis, startNode, query, ledgerMismatches, eventually } from './helpers/cluster.js'
 

@@ -10,7 +10,7 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
-import { startPostgres } from '../server/helpers/postgres.js'
+import { startPostgres } from '../../tools/postgres-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
 import { startRedis, startNode, freePort, query, ledgerMismatches } from '../cluster/helpers/cluster.js'
 import { createProxy } from '../../server/cluster/proxy.js'

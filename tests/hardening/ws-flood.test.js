@@ -4,7 +4,7 @@ import { mkdtempSync, rmSync } from 'node:fs'
 import net from 'node:net'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
-import { startServerProcess } from '../../scripts/server-process.js'
+import { startServerProcess } from '../../tools/server-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
 /**

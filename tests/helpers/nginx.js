@@ -3,8 +3,8 @@ import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
-import { freePort } from '../../scripts/free-port.js'
-import { eventually } from './eventually.js'
+import { freePort } from '../../tools/free-port.js'
+import { eventually } from '../../tools/eventually.js'
 
 const CONF = fileURLToPath(new URL('../../deploy/nginx.conf', import.meta.url))
 

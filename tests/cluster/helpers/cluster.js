@@ -1,16 +1,17 @@
 import { spawn } from 'node:child_process'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
-import pg from 'pg'
-import { freePort } from '../../../scripts/free-port.js'
-import { eventually as pollUntil } from '../../helpers/eventually.js'
+import { freePort } from '../../../tools/free-port.js'
+import { eventually as pollUntil } from '../../../tools/eventually.js'
+import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../..')
 export const OPERATOR_TOKEN = 'operator-token-for-cluster-tests-0123'
 
 // One launcher each for the whole project (npm run cluster uses them too).
-export { freePort } from '../../../scripts/free-port.js'
-export { startRedis } from '../../../scripts/redis-process.js'
+export { freePort } from '../../../tools/free-port.js'
+export { startRedis } from '../../../tools/redis-process.js'
+export { query, ledgerMismatches } from '../../../tools/ledger-checks.js'
 
 /**
  * `node server/server.js` as a cluster member on a free port, its PUBLIC_URL
@@ -32,10 +33,7 @@ export async function startNode ({ databaseUrl, redisUrl, env = {} }) {
       LOG_LEVEL: 'warn',
       OPERATOR_TOKEN,
       CLIENT_DIR: '/nonexistent/plinko-client',
-      HTTP_RATE_LIMIT: '1000000',
-      SESSION_RATE_LIMIT: '1000000',
-      DROP_RATE_PER_IP: '1000000',
-      JOIN_RATE_PER_IP: '1000000',
+      ...LIFTED_LIMITS,
       ...env
     },
     stdio: ['ignore', 'pipe', 'pipe']
@@ -79,26 +77,6 @@ export async function startNode ({ databaseUrl, redisUrl, env = {} }) {
     await new Promise((resolve) => setTimeout(resolve, 50))
   }
   return node
-}
-
-/** One query on a database URL. */
-export async function query (url, sql, params = []) {
-  const client = new pg.Client({ connectionString: url })
-  await client.connect()
-  try {
-    return (await client.query(sql, params)).rows
-  } finally {
-    await client.end()
-  }
-}
-
-/** Every player's balance equals start - bets + payouts, and no drop is left in flight. */
-export async function ledgerMismatches (url, startingBalance) {
-  return query(url, `SELECT p.id, p.balance,
-      $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0) AS expected
-    FROM players p LEFT JOIN drops d ON d.player_id = p.id
-    GROUP BY p.id, p.balance
-    HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [startingBalance])
 }
 
 /** The server tests' eventually(), polling every 50 ms: these checks query PostgreSQL. */

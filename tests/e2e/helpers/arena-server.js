@@ -4,6 +4,7 @@ import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { buildApp } from '../../../server/app.js'
 import { loadConfig } from '../../../server/config.js'
+import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
 
 export const OPERATOR_TOKEN = 'operator-token-for-e2e-tests-0123456789'
 export const CLIENT_DIR = fileURLToPath(new URL('../../../client/', import.meta.url))
@@ -26,10 +27,7 @@ export async function startArenaServer ({ tickRate = 60, env = {}, ledger } = {}
     OPERATOR_TOKEN,
     LOG_LEVEL: 'silent',
     CLIENT_DIR,
-    HTTP_RATE_LIMIT: '1000000',
-    SESSION_RATE_LIMIT: '1000000',
-    DROP_RATE_PER_IP: '1000000',
-    JOIN_RATE_PER_IP: '1000000',
+    ...LIFTED_LIMITS,
     ...env
   })
   let app = await buildApp(config, { tickRate, logger: false })

@@ -1,5 +1,6 @@
-import { startServerProcess as launchServerProcess } from '../../../scripts/server-process.js'
+import { startServerProcess as launchServerProcess } from '../../../tools/server-process.js'
 import { OPERATOR_TOKEN } from '../../server/helpers/server.js'
+import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
 
 /**
  * The server as a child process (scripts/server-process.js) with the test
@@ -10,10 +11,7 @@ export function startServerProcess (databaseUrl, env = {}) {
   return launchServerProcess(databaseUrl, {
     OPERATOR_TOKEN,
     CLIENT_DIR: '/nonexistent/plinko-client',
-    HTTP_RATE_LIMIT: '1000000',
-    SESSION_RATE_LIMIT: '1000000',
-    DROP_RATE_PER_IP: '1000000',
-    JOIN_RATE_PER_IP: '1000000',
+    ...LIFTED_LIMITS,
     ...env
   })
 }

@@ -4,6 +4,7 @@ import { openStore } from '../../../server/store/open-store.js'
 import { beforeAll, afterAll } from 'vitest'
 import { GameClient } from './game-client.js'
 import { storeBackend } from './stores.js'
+import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
 
 export const OPERATOR_TOKEN = 'operator-token-for-tests-0123456789'
 /** Wall-clock ticks per second in tests: three times real time, same outcomes. */
@@ -21,11 +22,8 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
     DATABASE_URL: database.url,
     OPERATOR_TOKEN,
     LOG_LEVEL: 'silent',
-    HTTP_RATE_LIMIT: '1000000',
-    SESSION_RATE_LIMIT: '1000000',
-    DROP_RATE_PER_IP: '1000000',
+    ...LIFTED_LIMITS,
     JOIN_RATE: '1000',
-    JOIN_RATE_PER_IP: '1000000',
     CLIENT_DIR: '/nonexistent/plinko-client',
     ...env
   })
@@ -79,7 +77,7 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
   }
 }
 
-export { eventually } from '../../helpers/eventually.js'
+export { eventually } from '../../../tools/eventually.js'
 
 /**
  * Registers hooks that give the enclosing describe block a fresh database

@@ -3,7 +3,7 @@ import os from 'node:os'
 import path from 'node:path'
 import Database from 'better-sqlite3'
 import pg from 'pg'
-import { startPostgres } from './postgres.js'
+import { startPostgres } from '../../../tools/postgres-process.js'
 
 /** The store kinds every ledger test runs against (describe.each). */
 export const STORE_KINDS = ['sqlite', 'postgres']

@@ -3,7 +3,7 @@ import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
 import pg from 'pg'
-import { freePort } from '../../../scripts/free-port.js'
+import { freePort } from './free-port.js'
 
 /**
  * A throwaway PostgreSQL server for the tests: `initdb` a cluster in a temp

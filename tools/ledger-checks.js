@@ -1,0 +1,27 @@
+import pg from 'pg'
+
+/**
+ * Checks of a PostgreSQL ledger from outside the server, for the cluster
+ * tests and the load-test cluster smoke.
+ */
+
+/** One query on a database URL. */
+export async function query (url, sql, params = []) {
+  const client = new pg.Client({ connectionString: url })
+  await client.connect()
+  try {
+    return (await client.query(sql, params)).rows
+  } finally {
+    await client.end()
+  }
+}
+
+/** Every player's balance equals start - bets + payouts, and no drop is left in flight. */
+export async function ledgerMismatches (url, startingBalance) {
+  return query(url, `SELECT p.id, p.balance,
+      $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0) AS expected
+    FROM players p LEFT JOIN drops d ON d.player_id = p.id
+    GROUP BY p.id, p.balance
+    HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [startingBalance])
+}
+
