@@ -33,9 +33,10 @@ afterAll(async () => {
 describe('a 1.0.0 ledger after the upgrade, in Chromium', () => {
   it('the player page verifies every 1.0.0 drop of its history under 1.0.0', async () => {
     const page = await chromium.newPage({ viewport: { width: 1280, height: 900 } })
+    // The recorded player's session is in place before any page script runs:
+    // set after a first load, the page's own new session could overwrite it.
+    await page.addInitScript(({ token, playerId }) => localStorage.setItem('plinko.session', JSON.stringify({ token, playerId })), a)
     await page.goto(`${server.base}/`)
-    await page.evaluate(({ token, playerId }) => localStorage.setItem('plinko.session', JSON.stringify({ token, playerId })), a)
-    await page.reload()
     await waitInPage(page, 'the page to join its room', () => window.__plinko?.ready === true)
     expect(await page.evaluate(() => window.__plinko.playerId)).toBe(a.playerId)
     const own = recorded.filter((d) => d.player_id === a.playerId)
