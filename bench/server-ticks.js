@@ -22,6 +22,7 @@ import { spawnSync } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
 import { DropSimulator } from '../engine/index.js'
 import { Arena } from '../server/arena.js'
+import { LocalCoordinator } from '../server/coordination/local-coordinator.js'
 import { withBenchLedger } from './temp-ledger.js'
 import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
@@ -54,6 +55,7 @@ class BenchClient {
     this.arena = arena
     this.account = account
     this.room = room
+    this.drops = 0
     this.eventBytes = 0
     this.snapshotBytes = 0
     this.errors = 0
@@ -66,7 +68,10 @@ class BenchClient {
 
   sendRoomFrame (frame) { this.snapshotBytes += frame.length }
   sendError () { this.errors++ }
-  drop () { this.arena.drop(this, { bet: 1 }) }
+  drop () {
+    this.arena.drop(this, { bet: 1 })
+    this.drops++
+  }
 }
 
 const silentLog = { info () {}, warn () {}, error (...a) { console.error(...a) }, debug () {} }
@@ -84,7 +89,9 @@ async function run (config) {
     if (measuring) commitSamples.push(Number(process.hrtime.bigint() - started) / 1e6)
     return outcome
   }
-  const arena = new Arena({ config, store, metrics: createMetrics({ defaultMetrics: false }), log: silentLog, firstDropId: 1 })
+  const coordinator = new LocalCoordinator({ store, log: silentLog })
+  const arena = new Arena({ config, store, coordinator, metrics: createMetrics({ defaultMetrics: false }), log: silentLog })
+  await arena.start()
 
   const board = boardOf('16-medium')
   const clients = []
@@ -123,11 +130,11 @@ async function run (config) {
   }
   fill()
   const filler = setInterval(fill, 25 * 1000 / 60)
-  arena.start()
+  arena.run()
   await sleep(WARMUP_SECONDS * 1000)
   clearInterval(filler)
 
-  const before = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: arena.nextDropId, snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+  const before = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: sum(clients, 'drops'), snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
   let ballSamples = 0
   let ballTotal = 0
   const ballSampler = setInterval(() => {
@@ -140,7 +147,7 @@ async function run (config) {
   measuring = false
   const seconds = (performance.now() - startedAt) / 1000
   clearInterval(ballSampler)
-  const after = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: arena.nextDropId, snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+  const after = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: sum(clients, 'drops'), snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
 
   arena.stopAccepting()
   scheduler.stop()

@@ -24,7 +24,7 @@ import { parseArgs } from 'node:util'
 import Database from 'better-sqlite3'
 import WebSocket from 'ws'
 import { createBoard, simulateDrop } from '../engine/index.js'
-import { payoutFor } from '../server/fairness/payout.js'
+import { payoutFor } from '../server/game/money.js'
 import { ROOM_IDS } from '../protocol/room-id.js'
 import { startServerProcess } from '../tools/server-process.js'
 import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
@@ -110,8 +110,8 @@ async function readMetrics (base) {
   const text = await (await fetch(`${base}/metrics`, { headers: { authorization: `Bearer ${OPERATOR_TOKEN}` } })).text()
   const value = (name) => Number(new RegExp(`^${name} (\\S+)$`, 'm').exec(text)?.[1] ?? NaN)
   return {
-    rss: value('plinko_process_process_resident_memory_bytes'),
-    heap: value('plinko_process_nodejs_heap_size_used_bytes'),
+    rss: value('plinko_process_resident_memory_bytes'),
+    heap: value('plinko_nodejs_heap_size_used_bytes'),
     tickSum: value('plinko_tick_duration_seconds_sum'),
     tickCount: value('plinko_tick_duration_seconds_count'),
     lagSum: value('plinko_tick_lag_seconds_sum'),

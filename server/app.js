@@ -5,10 +5,7 @@ import websocket from '@fastify/websocket'
 import { Arena } from './arena.js'
 import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
-import { openStore } from './store/open-store.js'
-import { settleInterruptedDrops } from './ledger/recovery.js'
-import { openSharedLedger } from './cluster/shared-ledger.js'
-import { ClusterNode } from './cluster/cluster-node.js'
+import { modeOf } from './coordination/modes.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
@@ -22,13 +19,17 @@ import clientAssetRoutes, { inlineScriptHashes } from './routes/client-assets.js
 import { requestValidatorCompiler } from './routes/request-validation.js'
 import { clientErrorHandler, requireHost } from './routes/client-errors.js'
 
+/** Longest an idle keep-alive connection stays open between requests. */
+const KEEP_ALIVE_MS = 5000
+
 /**
  * Builds the whole server without listening: tests drive it with
  * app.inject() or listen on port 0; server.js listens on the configured
- * port. Opens (and migrates) the ledger, settles drops a previous process
- * left in flight, then wires the arena and the routes. The 60 Hz clock
- * starts when the app is ready and stops (after settling every ball in
- * flight) when it closes.
+ * port. Chooses the mode once (coordination/modes.js: alone, or clustered
+ * with REDIS_URL), opens (and migrates) its ledger, starts its coordinator
+ * (which settles the drops a previous process left in flight), then wires
+ * the arena and the routes. The 60 Hz clock starts when the app is ready
+ * and stops (after settling every ball in flight) when it closes.
  * @param {import('./config.js').Config} config
  * @param {object} [options]
  * @param {any} [options.store] an opened, migrated store (default: from config.database); the app closes it
@@ -36,9 +37,6 @@ import { clientErrorHandler, requireHost } from './routes/client-errors.js'
  *   the simulation still advances 1/60 s per tick, so outcomes are unchanged)
  * @param {object} [options.logger] fastify logger options, or false
  */
-/** Longest an idle keep-alive connection stays open between requests. */
-const KEEP_ALIVE_MS = 5000
-
 export async function buildApp (config, options = {}) {
   const app = Fastify({
     logger: options.logger ?? {
@@ -72,33 +70,23 @@ export async function buildApp (config, options = {}) {
   // Safe integers only, bodies as sent, no extra properties (routes/request-validation.js).
   app.setValidatorCompiler(requestValidatorCompiler())
 
-  // Clustered (REDIS_URL): the shared ledger decides balances, nonces and drop ids (server/cluster/).
-  const clustered = Boolean(config.redisUrl)
-  const store = options.store ?? (clustered ? await openSharedLedger(config.database) : await openStore(config.database))
+  const mode = modeOf(config)
+  const store = options.store ?? await mode.openStore(config.database)
+  const coordinator = mode.createCoordinator({ store, config, log: app.log })
+  const metrics = createMetrics()
+  const arena = new Arena({ config, store, coordinator, metrics, log: app.log, tickRate: options.tickRate })
   try {
-    // Clustered, other processes' drops are in flight too: the cluster settles only rooms nobody owns.
-    if (!clustered) await settleInterruptedDrops(store, app.log)
+    await arena.start()
   } catch (error) {
+    await coordinator.close().catch(() => {})
     await store.close().catch(() => {})
     throw error
   }
-  const metrics = createMetrics()
-  const arena = new Arena({ config, store, metrics, log: app.log, firstDropId: (await store.maxDropId()) + 1, tickRate: options.tickRate })
   app.decorate('arena', arena)
-  if (clustered) {
-    arena.cluster = new ClusterNode({ arena, store, config, log: app.log })
-    try {
-      await arena.cluster.start()
-    } catch (error) {
-      await arena.cluster.close().catch(() => {})
-      await store.close().catch(() => {})
-      throw error
-    }
-    app.addHook('onListen', async () => {
-      const address = app.server.address()
-      if (address && typeof address === 'object') arena.cluster.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
-    })
-  }
+  app.addHook('onListen', async () => {
+    const address = app.server.address()
+    if (address && typeof address === 'object') coordinator.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
+  })
 
   if (config.operatorTokenGenerated) {
     app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
@@ -144,10 +132,10 @@ export async function buildApp (config, options = {}) {
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes)
 
-  app.addHook('onReady', async () => arena.start())
+  app.addHook('onReady', async () => arena.run())
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
-    await arena.cluster?.close()
+    await coordinator.close()
     await store.close()
   })
   return app

@@ -2,37 +2,20 @@ import { ROOM_IDS } from '../../protocol/room-id.js'
 import { Leases } from './lease.js'
 
 /**
- * Which process runs which room, behind one small interface (after
- * Colyseus's local and Redis presence): `LocalRoomDirectory` when the server
- * runs alone (every room is ours), `RedisRoomDirectory` when it is clustered.
+ * Which process runs which room, in Redis (used by cluster-coordinator.js;
+ * a server that runs alone has no directory: every room is its own).
  *
  *   claim(roomId)   → { held: true } | { held: false, owner: url | null, retryAfterMs }
  *   renew(roomIds)  → room ids whose lease was lost to another process
  *   release(roomId) → gives the room up (only if we still hold it)
  *   publish(list)   → advertises this process and its rooms' summaries
  *   list()          → every room running anywhere: its summary plus `owner` (a URL)
- *   close()
  *
  * Redis keys (all under `plinko:`):
  *   room:{id}:lease   owner node id, PX = lease TTL (lease.js)
  *   room:{id}:summary JSON summary as GET /api/rooms shows it, PX = lease TTL
  *   node:{nodeId}     the node's public URL, PX = lease TTL (presence)
  */
-export class LocalRoomDirectory {
-  /** @param {{ localSummaries: () => object[] }} options */
-  constructor ({ localSummaries }) {
-    this.localSummaries = localSummaries
-    this.clustered = false
-  }
-
-  async claim () { return { held: true } }
-  async renew () { return [] }
-  async release () { return true }
-  async publish () {}
-  async list () { return this.localSummaries() }
-  async close () {}
-}
-
 export const KEYS = {
   lease: (roomId) => `plinko:room:${roomId}:lease`,
   summary: (roomId) => `plinko:room:${roomId}:summary`,
@@ -55,7 +38,6 @@ export class RedisRoomDirectory {
     this.ttlMs = ttlMs
     this.localSummaries = localSummaries
     this.leases = new Leases({ redis, owner: nodeId, ttlMs })
-    this.clustered = true
   }
 
   async claim (roomId) {
@@ -106,7 +88,6 @@ export class RedisRoomDirectory {
     return rooms
   }
 
-  async close () {}
 }
 
 function parseSummary (text, id) {

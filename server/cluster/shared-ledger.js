@@ -184,7 +184,7 @@ export class SharedLedgerStore extends PostgresStore {
   async commitBatch (batch) {
     return this._transaction(async (client) => {
       const rejected = new Map()
-      const players = new Set()
+      const players = new Set(batch.players)
       let drops = batch.drops
       // Row locks in one global order (settled drops by id, then players by id), so two
       // processes' batches wait for each other instead of deadlocking.

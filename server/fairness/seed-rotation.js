@@ -1,3 +1,4 @@
+import { clientSeedBatch } from '../game/ledger-batch.js'
 import { newServerSeed } from './seeds.js'
 
 /**
@@ -43,7 +44,7 @@ export async function setClientSeed (arena, account, clientSeed) {
   const previous = account.clientSeed
   account.clientSeed = clientSeed
   try {
-    await arena.ledger.run(() => arena.store.commitBatch({ drops: [], settlements: [], balances: [], nonces: [], clientSeeds: [{ playerId: account.playerId, clientSeed }] }))
+    await arena.ledger.run(() => arena.store.commitBatch(clientSeedBatch(account.playerId, clientSeed)))
   } catch (error) {
     // Not written: back to what the ledger has, unless a later change replaced it meanwhile.
     if (account.clientSeed === clientSeed) account.clientSeed = previous

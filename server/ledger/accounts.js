@@ -38,7 +38,9 @@ export class Account {
  * The one in-memory Account per player. Accounts are loaded on first use
  * and kept while anything holds them (a connection, an HTTP request, a drop
  * in flight or being written), so two copies of one player's balance can
- * never exist in the process. One process owns a database's players.
+ * never exist in the process. (Clustered, other processes hold copies too:
+ * the shared ledger decides every balance, and cluster/balance-sync.js
+ * refreshes this one when another process changes it.)
  */
 export class AccountBook {
   /** @param {{ store: any, limits: { dropRate: number, dropBurst: number, joinRate: number } }} options */

@@ -1,3 +1,5 @@
+import { toLedgerBatch } from '../game/ledger-batch.js'
+
 /**
  * Group commit: everything one tick changes (drops accepted, balls landed)
  * is written in ONE transaction, and transactions run strictly one after
@@ -14,8 +16,8 @@
 export class GroupCommit {
   /**
    * @param {object} options
-   * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<void> }} options.store
-   * @param {(batch: PendingBatch, outcome?: any) => void} options.onCommitted outcome: what the store's commitBatch returned
+   * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<import('../game/money.js').CommitOutcome> }} options.store
+   * @param {(batch: PendingBatch, outcome: import('../game/money.js').CommitOutcome) => void} options.onCommitted outcome: what the store's commitBatch returned
    * @param {(batch: PendingBatch, error: unknown) => void} options.onFailed
    * @param {import('../metrics.js').Metrics} [options.metrics]
    * @param {{ error: Function }} [options.log]
@@ -32,12 +34,12 @@ export class GroupCommit {
     this._flushWanted = false
   }
 
-  /** @param {import('../arena.js').Drop} drop */
+  /** @param {import('../game/drop.js').Drop} drop */
   addDrop (drop) {
     this.open.drops.push(drop)
   }
 
-  /** @param {Settlement} settlement */
+  /** @param {import('../game/drop.js').Settlement} settlement */
   addSettlement (settlement) {
     this.open.settlements.push(settlement)
   }
@@ -45,8 +47,8 @@ export class GroupCommit {
   /**
    * Takes back the drops of the open batch (not yet sent to the store) that
    * match `predicate`: they will never be written.
-   * @param {(drop: import('../arena.js').Drop) => boolean} predicate
-   * @returns {import('../arena.js').Drop[]}
+   * @param {(drop: import('../game/drop.js').Drop) => boolean} predicate
+   * @returns {import('../game/drop.js').Drop[]}
    */
   withdrawDrops (predicate) {
     const withdrawn = this.open.drops.filter(predicate)
@@ -106,7 +108,7 @@ export class GroupCommit {
     const started = process.hrtime.bigint()
     let outcome
     try {
-      // The shared ledger (clustered) returns what it refused and the committed balances.
+      // What the ledger committed (a shared ledger may refuse drops) and the committed balances.
       outcome = await this.store.commitBatch(toLedgerBatch(batch))
     } catch (error) {
       this.metrics?.commitFailures.inc()
@@ -114,7 +116,7 @@ export class GroupCommit {
       return
     }
     this.metrics?.commitDuration.observe(Number(process.hrtime.bigint() - started) / 1e9)
-    this._callback(this.onCommitted, batch, outcome ?? undefined)
+    this._callback(this.onCommitted, batch, outcome)
   }
 
   _callback (callback, batch, error) {
@@ -127,72 +129,10 @@ export class GroupCommit {
   }
 }
 
-/**
- * @typedef {object} Settlement a landed ball waiting to be written
- * @property {import('../arena.js').Drop} drop
- * @property {number} bucket @property {number} multiplier @property {number} payout
- * @property {number} ticks @property {string} stateHash
- * @property {number} tick room tick at landing (drop.startTick + ticks)
- * @property {number} settledAt ms @property {number} attempts commits tried so far
- */
-
-/** @typedef {{ drops: import('../arena.js').Drop[], settlements: Settlement[] }} PendingBatch */
+/** @typedef {{ drops: import('../game/drop.js').Drop[], settlements: import('../game/drop.js').Settlement[] }} PendingBatch */
 
 function newBatch () {
   return { drops: [], settlements: [] }
 }
 
 function noop () {}
-
-/**
- * The rows one batch writes: new drops, settlements, one net balance change
- * per player, the highest nonce used per seed, and client seeds changed by
- * `drop {clientSeed}`.
- * @param {PendingBatch} batch
- * @returns {import('../store/records.js').LedgerBatch}
- */
-export function toLedgerBatch ({ drops, settlements }) {
-  const balances = new Map()
-  const nonces = new Map()
-  const clientSeeds = new Map()
-  const newDrops = drops.map((drop) => {
-    balances.set(drop.playerId, (balances.get(drop.playerId) ?? 0) - drop.bet)
-    nonces.set(drop.seedId, Math.max(nonces.get(drop.seedId) ?? 0, drop.nonce + 1))
-    if (drop.clientSeedChange) clientSeeds.set(drop.playerId, drop.clientSeed)
-    return {
-      id: drop.id,
-      playerId: drop.playerId,
-      room: drop.roomId,
-      rows: drop.rows,
-      risk: drop.risk,
-      engineVersion: drop.engineVersion,
-      serverSeedId: drop.seedId,
-      serverSeedHash: drop.serverSeedHash,
-      clientSeed: drop.clientSeed,
-      nonce: drop.nonce,
-      dropSeed: drop.dropSeed,
-      bet: drop.bet,
-      startTick: drop.startTick,
-      createdAt: drop.createdAt
-    }
-  })
-  const newSettlements = settlements.map((s) => {
-    balances.set(s.drop.playerId, (balances.get(s.drop.playerId) ?? 0) + s.payout)
-    return {
-      id: s.drop.id,
-      bucket: s.bucket,
-      multiplier: s.multiplier,
-      payout: s.payout,
-      ticks: s.ticks,
-      stateHash: s.stateHash,
-      settledAt: s.settledAt
-    }
-  })
-  return {
-    drops: newDrops,
-    settlements: newSettlements,
-    balances: [...balances].filter(([, delta]) => delta !== 0).map(([playerId, delta]) => ({ playerId, delta })),
-    nonces: [...nonces].map(([seedId, nextNonce]) => ({ seedId, nextNonce })),
-    clientSeeds: [...clientSeeds].map(([playerId, clientSeed]) => ({ playerId, clientSeed }))
-  }
-}

@@ -131,7 +131,7 @@ export class Connection {
         if (!this.account.joinLimiter.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRate} joins per second per player`)
         if (this.ipLimits && !this.ipLimits.joins.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRatePerIp} joins per second from one address`)
         const joined = arena.join(this, message.room)
-        // Clustered, joining a room that runs nowhere yet is async (server/cluster/cluster-node.js).
+        // Joining a room this process does not run yet is async (the coordinator claims it).
         if (typeof joined?.then === 'function') {
           joined.then((reply) => this.sendJson(withRef(reply, message.ref)), (error) => this._replyError(error, message.ref))
         } else {

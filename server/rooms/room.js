@@ -1,5 +1,6 @@
 import { DropSimulator, BODY_STRIDE, BODY_X, BODY_Y } from '../../engine/index.js'
 import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
+import { publicDropFacts } from '../game/drop.js'
 
 /**
  * One board, its simulator and the connections watching it. Lifecycle:
@@ -31,7 +32,7 @@ export class Room {
     this.snapshotPhase = snapshotPhase % snapshotEvery
     /** @type {Set<import('../realtime/connection.js').Connection>} */
     this.clients = new Set()
-    /** @type {(import('../arena.js').Drop | undefined)[]} drop by slot, while in flight */
+    /** @type {(import('../game/drop.js').Drop | undefined)[]} drop by slot, while in flight */
     this.balls = []
     this.visible = new Uint8Array(64)
     this.visibleCount = 0
@@ -51,6 +52,18 @@ export class Room {
     return `{"type":"events","room":${JSON.stringify(this.id)},"events":${events}}`
   }
 
+  /** Sends `events` (from takeEvents()) to the room's clients as an `events` message, with no snapshot. @param {string} events */
+  sendEvents (events) {
+    const text = this.eventsMessage(events)
+    for (const client of this.clients) client.sendEvent(text, 'events')
+  }
+
+  /** Sends the queued events now, without waiting for the next snapshot. */
+  sendQueuedEvents () {
+    const events = this.takeEvents()
+    if (events !== null) this.sendEvents(events)
+  }
+
   /** The queued events as one JSON array text, or null if none; clears the queue. */
   takeEvents () {
     if (this.pendingEvents.length === 0) return null
@@ -66,7 +79,7 @@ export class Room {
 
   /**
    * Puts a drop's ball on the board at the current tick.
-   * @param {import('../arena.js').Drop} drop
+   * @param {import('../game/drop.js').Drop} drop
    */
   release (drop) {
     drop.startTick = this.tick
@@ -80,7 +93,7 @@ export class Room {
     }
   }
 
-  /** Makes an announced drop's ball visible, if it is still in flight. @param {import('../arena.js').Drop} drop */
+  /** Makes an announced drop's ball visible, if it is still in flight. @param {import('../game/drop.js').Drop} drop */
   show (drop) {
     if (this.balls[drop.slot] !== drop || this.visible[drop.slot] === 1) return
     this.visible[drop.slot] = 1
@@ -91,7 +104,7 @@ export class Room {
    * Forgets a drop whose ledger record failed. Its ball keeps falling (the
    * simulator has no way to remove one) but is never shown, counted against
    * the room's limit, or settled.
-   * @param {import('../arena.js').Drop} drop
+   * @param {import('../game/drop.js').Drop} drop
    */
   discard (drop) {
     if (drop.void) return
@@ -152,21 +165,7 @@ export class Room {
     const states = []
     for (let slot = 0; slot < this.balls.length; slot++) {
       if (this.visible[slot] !== 1) continue
-      const drop = this.balls[slot]
-      states.push({
-        dropId: drop.id,
-        player: drop.playerId,
-        slot,
-        serverSeedHash: drop.serverSeedHash,
-        clientSeed: drop.clientSeed,
-        nonce: drop.nonce,
-        dropSeed: drop.dropSeed,
-        engineVersion: drop.engineVersion,
-        bet: drop.bet,
-        startTick: drop.startTick,
-        x: world.xOf(slot),
-        y: world.yOf(slot)
-      })
+      states.push({ ...publicDropFacts(this.balls[slot]), x: world.xOf(slot), y: world.yOf(slot) })
     }
     return states
   }

@@ -1,3 +1,8 @@
+import { DEFAULT_TIMESTEP } from '../../engine/index.js'
+
+/** Ticks per simulated second: every room steps the engine's fixed 1/60 s per tick. */
+export const SIMULATION_HZ = Math.round(1 / DEFAULT_TIMESTEP)
+
 const SECOND_NS = 1_000_000_000n
 const MS_NS = 1_000_000n
 
@@ -14,7 +19,7 @@ export class TickScheduler {
   /**
    * @param {object} options
    * @param {() => void} options.onTick
-   * @param {number} [options.tickRate] ticks per second of wall time (60; tests may go faster)
+   * @param {number} [options.tickRate] ticks per second of wall time (SIMULATION_HZ; tests may go faster)
    * @param {number} [options.maxCatchUp] most ticks run per wake-up
    * @param {import('../metrics.js').Metrics} [options.metrics]
    * @param {{ error: Function }} [options.log]
@@ -22,7 +27,7 @@ export class TickScheduler {
    * @param {(fn: () => void, ms: number) => any} [options.setTimer]
    * @param {(handle: any) => void} [options.clearTimer]
    */
-  constructor ({ onTick, tickRate = 60, maxCatchUp = 10, metrics, log, now = process.hrtime.bigint, setTimer, clearTimer }) {
+  constructor ({ onTick, tickRate = SIMULATION_HZ, maxCatchUp = 10, metrics, log, now = process.hrtime.bigint, setTimer, clearTimer }) {
     if (!Number.isInteger(tickRate) || tickRate < 1) throw new RangeError('tickRate must be a positive integer')
     this.onTick = onTick
     this.rate = BigInt(tickRate)

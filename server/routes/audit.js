@@ -3,7 +3,7 @@ import { simulateDrop, verifyDrop, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION, EN
 import { requireOperator } from '../auth.js'
 import { gameError } from '../errors.js'
 import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
-import { payoutFor } from '../fairness/payout.js'
+import { payoutFor } from '../game/money.js'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
 import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'

@@ -35,8 +35,8 @@ export default async function roomRoutes (app, { arena }) {
       }
     }
   }, async () => ({
-    // Clustered, the directory in Redis lists the rooms of every process.
-    rooms: arena.cluster ? await arena.cluster.directory.list() : [...arena.rooms.values()].map((room) => room.summary()),
+    // Clustered, the coordinator lists the rooms of every process.
+    rooms: await arena.coordinator.listRooms(),
     roomIds: ROOM_IDS
   }))
 }

@@ -85,9 +85,14 @@ export class PostgresStore {
     return rows[0] ? accountFromRow(rows[0]) : null
   }
 
-  /** @param {import('./records.js').LedgerBatch} batch */
+  /**
+   * Writes the batch whole or not at all; returns what it committed (one
+   * process owns this ledger, so nothing is refused) and the touched
+   * players' balances as committed.
+   * @param {import('./records.js').LedgerBatch} batch @returns {Promise<import('../game/money.js').CommitOutcome>}
+   */
   async commitBatch (batch) {
-    await this._transaction(async (client) => {
+    return this._transaction(async (client) => {
       const drops = batch.drops
       if (drops.length > 0) {
         await insertInFlightDrops(client, drops)
@@ -118,6 +123,12 @@ export class PostgresStore {
           FROM unnest($1::text[], $2::text[]) AS c (id, client_seed) WHERE p.id = c.id`,
         columns(batch.clientSeeds, ['playerId', 'clientSeed']))
       }
+      const balances = new Map()
+      if (batch.players?.length > 0) {
+        const { rows } = await client.query('SELECT id, balance FROM players WHERE id = ANY($1::text[])', [batch.players])
+        for (const row of rows) balances.set(row.id, Number(row.balance))
+      }
+      return { rejected: new Map(), settled: new Set(batch.settlements.map((s) => s.id)), balances }
     })
   }
 

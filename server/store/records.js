@@ -62,6 +62,7 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  * @property {{ playerId: string, delta: number }[]} balances net change per player
  * @property {{ seedId: string, nextNonce: number }[]} nonces
  * @property {{ playerId: string, clientSeed: string }[]} clientSeeds
+ * @property {string[]} [players] every player the batch touches: the store returns their committed balances
  */
 
 /** A player with its active seed, as the account book caches it. */

@@ -32,7 +32,7 @@ export class SqliteStore {
     try {
       if (this._writer) return await this._writer.run(op, args)
       this._writesHere ??= prepareWrites(this.db)
-      this._writesHere[op].immediate(args)
+      return this._writesHere[op].immediate(args)
     } catch (error) {
       if (error.code === 'SQLITE_BUSY') throw gameError('E_UNAVAILABLE', 'the ledger is busy (another process holds its write lock); try again shortly', { cause: error })
       throw error
@@ -75,9 +75,9 @@ export class SqliteStore {
     return row ? accountFromRow(row) : null
   }
 
-  /** @param {import('./records.js').LedgerBatch} batch */
+  /** @param {import('./records.js').LedgerBatch} batch @returns {Promise<import('../game/money.js').CommitOutcome>} */
   async commitBatch (batch) {
-    await this._write('commitBatch', batch)
+    return this._write('commitBatch', batch)
   }
 
   async rotateSeed (rotation) {

@@ -18,7 +18,7 @@ export class SqliteWriter {
     /** @type {Worker | null} */
     this.worker = null
     this.nextId = 1
-    /** @type {Map<number, { resolve: () => void, reject: (error: Error) => void }>} */
+    /** @type {Map<number, { resolve: (result: any) => void, reject: (error: Error) => void }>} */
     this.pending = new Map()
     /** settles when the last batch sent has */
     this._last = Promise.resolve()
@@ -26,7 +26,7 @@ export class SqliteWriter {
 
   /**
    * @param {import('./sqlite-writes.js').WRITES[number]} op @param {any} args
-   * @returns {Promise<void>} once durable
+   * @returns {Promise<any>} the write's result, once durable
    */
   run (op, args) {
     const worker = this.worker ?? this._start()
@@ -41,11 +41,11 @@ export class SqliteWriter {
 
   _start () {
     const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { file: this.file, busyTimeoutMs: this.busyTimeoutMs } })
-    worker.on('message', ({ id, error, code }) => {
+    worker.on('message', ({ id, result, error, code }) => {
       const waiter = this.pending.get(id)
       if (!waiter) return
       this.pending.delete(id)
-      if (error === undefined) waiter.resolve()
+      if (error === undefined) waiter.resolve(result)
       else waiter.reject(Object.assign(new Error(error), { code }))
     })
     // A thread that dies takes its open transaction with it (rolled back): fail what waited, start afresh next time.

@@ -18,12 +18,18 @@ export function prepareWrites (db) {
   const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
   const nonce = db.prepare('UPDATE server_seeds SET next_nonce = MAX(next_nonce, ?) WHERE id = ?')
   const clientSeed = db.prepare('UPDATE players SET client_seed = ? WHERE id = ?')
+  const balanceOf = db.prepare('SELECT balance FROM players WHERE id = ?').pluck()
   const insertPlayer = db.prepare('INSERT INTO players (id, token_hash, balance, client_seed, created_at) VALUES (?, ?, ?, ?, ?)')
   const insertSeed = db.prepare('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES (?, ?, ?, ?, 1, 0, ?)')
   const retireSeed = db.prepare('UPDATE server_seeds SET active = 0, revealed_at = ? WHERE id = ? AND player_id = ? AND active = 1')
 
   return {
-    /** @type {import('better-sqlite3').Transaction<(batch: import('./records.js').LedgerBatch) => void>} */
+    /**
+     * Writes the batch whole or not at all; returns what it committed (one
+     * process owns a SQLite ledger, so nothing is refused) and the touched
+     * players' balances as committed.
+     * @type {import('better-sqlite3').Transaction<(batch: import('./records.js').LedgerBatch) => import('../game/money.js').CommitOutcome>}
+     */
     commitBatch: db.transaction((batch) => {
       for (const d of batch.drops) {
         insertDrop.run(d.id, d.playerId, d.room, d.rows, d.risk, d.engineVersion, d.serverSeedId,
@@ -38,6 +44,9 @@ export function prepareWrites (db) {
       }
       for (const n of batch.nonces) nonce.run(n.nextNonce, n.seedId)
       for (const c of batch.clientSeeds) clientSeed.run(c.clientSeed, c.playerId)
+      const balances = new Map()
+      for (const playerId of batch.players ?? []) balances.set(playerId, Number(balanceOf.get(playerId)))
+      return { rejected: new Map(), settled: new Set(batch.settlements.map((s) => s.id)), balances }
     }),
     createPlayer: db.transaction(({ id, tokenHash, balance, clientSeed, createdAt, seed }) => {
       insertPlayer.run(id, tokenHash, balance, clientSeed, createdAt)

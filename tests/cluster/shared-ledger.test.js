@@ -2,7 +2,7 @@ import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createBoard, simulateDrop } from '../../engine/index.js'
 import { startPostgres } from '../../tools/postgres-process.js'
 import { openSharedLedger } from '../../server/cluster/shared-ledger.js'
-import { settleInterruptedDrops } from '../../server/ledger/recovery.js'
+import { settleInterruptedDrops } from '../../server/game/recovery.js'
 
 const silentLog = { info () {}, warn () {}, error () {} }
 

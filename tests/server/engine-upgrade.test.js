@@ -8,7 +8,7 @@
  */
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createBoard, simulateDrop, verifyDrop, ENGINE_VERSION } from '../../engine/index.js'
-import { payoutFor } from '../../server/fairness/payout.js'
+import { payoutFor } from '../../server/game/money.js'
 import { STORE_KINDS, storeBackend } from './helpers/stores.js'
 import { startServer, OPERATOR_TOKEN } from './helpers/server.js'
 import { ledgerFixture, loadLedgerFixture, fixtureDrops } from '../helpers/ledger-fixture.js'

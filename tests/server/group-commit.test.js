@@ -1,5 +1,6 @@
 import { describe, it, expect } from 'vitest'
-import { GroupCommit, toLedgerBatch } from '../../server/ledger/group-commit.js'
+import { GroupCommit } from '../../server/ledger/group-commit.js'
+import { toLedgerBatch } from '../../server/game/ledger-batch.js'
 
 /** A store whose commits the test resolves or rejects one at a time. */
 function manualStore () {

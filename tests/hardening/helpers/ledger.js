@@ -1,5 +1,5 @@
 import { createBoard, simulateDrop } from '../../../engine/index.js'
-import { payoutFor } from '../../../server/fairness/payout.js'
+import { payoutFor } from '../../../server/game/money.js'
 
 /**
  * Cross-checks of the ledger read straight from the database (bypassing

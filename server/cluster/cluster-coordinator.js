@@ -3,50 +3,45 @@ import { randomBytes } from 'node:crypto'
 import Redis from 'ioredis'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { gameError } from '../errors.js'
-import { settleInterruptedDrops } from '../ledger/recovery.js'
+import { settleInterruptedDrops } from '../game/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'
 import { BalanceSync } from './balance-sync.js'
 
 /**
- * This process as a member of a cluster: it owns rooms through leases in
- * Redis, renews them (and its presence and room summaries) every TTL/3,
- * gives a room's lease back once the room is disposed and its ledger
- * writes are committed, and settles the drops of rooms left by dead
- * processes. The arena calls `join` for a room it does not run yet and
- * `roomDisposed` when one goes idle; everything else runs on timers.
+ * The coordinator of a process in a cluster (../coordination/coordinator.js):
+ * it owns rooms through leases in Redis, renews them (and its presence and
+ * room summaries) every TTL/3, gives a room's lease back once the room is
+ * disposed and its ledger writes are committed, and settles the drops of
+ * rooms left by dead processes. Nonces and drop ids come in blocks from the
+ * shared ledger, and committed balances are announced to the others.
  *
  * Takeover: a room whose lease expired (its owner died) is claimed by the
  * first process a player joins it on, or by the sweep (every TTL) if drops
  * of it are still in flight in the ledger. Before the room runs again its
  * in-flight drops are replayed from their seeds and settled, each at most
  * once (the shared ledger's `WHERE status = 'in_flight'`).
+ * @implements {import('../coordination/coordinator.js').Coordinator}
  */
-export class ClusterNode {
+export class ClusterCoordinator {
   /**
    * @param {object} options
-   * @param {import('../arena.js').Arena} options.arena
    * @param {import('./shared-ledger.js').SharedLedgerStore} options.store
    * @param {import('../config.js').Config} options.config
    * @param {import('pino').Logger} options.log
    */
-  constructor ({ arena, store, config, log }) {
-    this.arena = arena
+  constructor ({ store, config, log }) {
     this.store = store
     this.log = log
     this.ttlMs = config.leaseTtlMs
     this.nodeId = `${os.hostname()}-${process.pid}-${randomBytes(3).toString('hex')}`
     this.publicUrl = config.publicUrl
-    this.redis = new Redis(config.redisUrl, { lazyConnect: true, maxRetriesPerRequest: 2, enableOfflineQueue: true })
-    this.redis.on('error', (error) => this.log.warn({ err: error }, 'redis error'))
-    this.directory = new RedisRoomDirectory({
-      redis: this.redis,
-      nodeId: this.nodeId,
-      publicUrl: () => this.publicUrl,
-      ttlMs: this.ttlMs,
-      localSummaries: () => [...arena.rooms.values()].map((room) => room.summary())
-    })
+    this.redisUrl = config.redisUrl
+    /** @type {import('../arena.js').Arena | null} */
+    this.arena = null
+    this.redis = null
+    this.directory = null
     /** Other processes' balance changes reach the accounts held here. */
-    this.balances = new BalanceSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store, log })
+    this.balances = null
     /** Rooms whose lease we hold. */
     this.owned = new Set()
     /** Per room: the tail of its claim/release chain (they never overlap). */
@@ -58,8 +53,22 @@ export class ClusterNode {
     this.renewedAt = Date.now()
   }
 
-  /** Connects to Redis, advertises this process, settles orphaned drops and starts the timers. */
-  async start () {
+  /**
+   * Connects to Redis, advertises this process, settles orphaned drops and
+   * starts the timers. @param {import('../arena.js').Arena} arena
+   */
+  async start (arena) {
+    this.arena = arena
+    this.redis = new Redis(this.redisUrl, { lazyConnect: true, maxRetriesPerRequest: 2, enableOfflineQueue: true })
+    this.redis.on('error', (error) => this.log.warn({ err: error }, 'redis error'))
+    this.directory = new RedisRoomDirectory({
+      redis: this.redis,
+      nodeId: this.nodeId,
+      publicUrl: () => this.publicUrl,
+      ttlMs: this.ttlMs,
+      localSummaries: () => [...arena.rooms.values()].map((room) => room.summary())
+    })
+    this.balances = new BalanceSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store: this.store, log: this.log })
     await this.redis.connect()
     await this.balances.start()
     await this.directory.publish([])
@@ -73,28 +82,35 @@ export class ClusterNode {
     every(this.ttlMs, () => this.sweep())
   }
 
+  /** @param {string} roomId */
+  ownsRoom (roomId) { return this.owned.has(roomId) }
+
+  /** The seed's next nonce, from the block the shared ledger reserved for this process. */
+  takeNonce (seed) { return this.store.takeNonce(seed) }
+
+  takeDropId () { return this.store.takeDropId() }
+
+  /** @param {Iterable<string>} playerIds */
+  balancesCommitted (playerIds) { this.balances.committed(playerIds) }
+
+  /** Every room running in the cluster, with the URL of the process that runs it. */
+  listRooms () { return this.directory.list() }
+
   /** Called once the HTTP server listens, when PUBLIC_URL was not set. @param {string} url */
   setListenUrl (url) {
     if (!this.publicUrl) this.publicUrl = url
   }
 
   /**
-   * Joins a room this process does not run yet: claims its lease (taking it
+   * Takes a room this process does not run yet: claims its lease (taking it
    * over if its owner died), or refuses with where the room runs.
-   * @param {import('../realtime/connection.js').Connection} connection
-   * @param {unknown} roomId
-   * @returns {Promise<object>} the `joined` message
+   * @param {string} roomId a valid room id
    */
-  async join (connection, roomId) {
-    if (!parseRoomId(roomId)) return this.arena.joinLocal(connection, roomId) // throws E_UNKNOWN_ROOM
-    const id = /** @type {string} */ (roomId)
-    const claim = await this.claim(id)
-    if (!claim.held) {
-      if (claim.owner) throw withDetails(gameError('E_WRONG_NODE', `room ${id} runs on ${claim.owner}; connect to ${claim.owner}/ws and join again`), { room: id, owner: claim.owner })
-      throw withDetails(gameError('E_ROOM_MOVING'), { room: id, retryAfterMs: claim.retryAfterMs })
-    }
-    if (connection.closed) throw gameError('E_UNAVAILABLE', 'connection closed')
-    return this.arena.joinLocal(connection, id)
+  async claimRoom (roomId) {
+    const claim = await this.claim(roomId)
+    if (claim.held) return
+    if (claim.owner) throw withDetails(gameError('E_WRONG_NODE', `room ${roomId} runs on ${claim.owner}; connect to ${claim.owner}/ws and join again`), { room: roomId, owner: claim.owner })
+    throw withDetails(gameError('E_ROOM_MOVING'), { room: roomId, retryAfterMs: claim.retryAfterMs })
   }
 
   /** @param {string} roomId @returns {Promise<{ held: boolean, owner?: string | null, retryAfterMs?: number }>} */
@@ -193,12 +209,13 @@ export class ClusterNode {
       await Promise.all([...this._chains.values()])
       for (const roomId of [...this.owned]) await this.directory.release(roomId)
       this.owned.clear()
+      if (!this.redis) return
       await this.redis.del(KEYS.node(this.nodeId))
       await this.balances.close()
       await this.redis.quit()
     } catch (error) {
       this.log.warn({ err: error }, 'leaving the cluster failed; leases expire after their TTL')
-      this.balances.subscriber?.disconnect()
+      this.balances?.subscriber?.disconnect()
       this.redis.disconnect()
     }
   }

@@ -1,7 +1,8 @@
 import { isEngineVersion, simulateDrop } from '../../engine/index.js'
 import { parseRoomId, roomIdOf } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
-import { payoutFor } from '../fairness/payout.js'
+import { toLedgerBatch } from './ledger-batch.js'
+import { payoutFor } from './money.js'
 
 /**
  * Start-up recovery: drops still in flight in the ledger were recorded and
@@ -22,7 +23,6 @@ export async function settleInterruptedDrops (store, log, { drops } = {}) {
   drops ??= await store.listInFlightDrops()
   if (drops.length === 0) return { settled: 0, skipped: 0 }
   const settlements = []
-  const balances = new Map()
   let skipped = 0
   for (const drop of drops) {
     const roomId = roomIdOf(drop.rows, drop.risk)
@@ -33,21 +33,14 @@ export async function settleInterruptedDrops (store, log, { drops } = {}) {
     }
     const outcome = simulateDrop(boardOf(roomId, drop.engineVersion), drop.dropSeed)
     const payout = payoutFor(drop.bet, outcome.multiplier)
-    settlements.push({ id: drop.id, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
-    balances.set(drop.playerId, (balances.get(drop.playerId) ?? 0) + payout)
+    settlements.push({ drop, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
   }
   let result
   if (settlements.length > 0) {
     // The shared ledger (cluster) settles only drops still in flight and says which.
-    result = await store.commitBatch({
-      drops: [],
-      settlements,
-      balances: [...balances].filter(([, delta]) => delta !== 0).map(([playerId, delta]) => ({ playerId, delta })),
-      nonces: [],
-      clientSeeds: []
-    })
+    result = await store.commitBatch(toLedgerBatch({ drops: [], settlements }))
   }
-  const settled = result?.settled ? result.settled.size : settlements.length
+  const settled = result ? result.settled.size : 0
   log.warn({ settled, skipped }, 'settled drops interrupted by the last shutdown')
   return { settled, skipped }
 }

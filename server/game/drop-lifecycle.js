@@ -1,0 +1,225 @@
+import { GroupCommit } from '../ledger/group-commit.js'
+import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
+import { gameError } from '../errors.js'
+import { payoutFor, RunningBalances } from './money.js'
+import { createDrop, droppedMessage, settledMessage } from './drop.js'
+
+/** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
+const MAX_SETTLE_ATTEMPTS = 5
+
+/**
+ * A drop's whole life, in one place:
+ *
+ *   accept   checks the bet, takes a nonce and an id (coordinator), derives
+ *            the drop seed, reserves the bet, releases the ball
+ *   record   the tick's group commit writes it (ledger-batch.js)
+ *   apply    once committed: the reservation becomes a debit, the balance
+ *            shown is the ledger's (money.js), the ball becomes visible
+ *   announce `dropped` to everyone (the owner's copy with the balance)
+ *   settle   the ball lands: its payout is written by a later tick's commit
+ *   apply    once committed: the payout is credited, `settled` announced
+ *
+ * A drop the ledger refuses or cannot write is forgotten (nothing was
+ * debited); a settlement that fails is retried, then left to start-up
+ * recovery. Nothing is announced before it is durable.
+ */
+export class DropLifecycle {
+  /**
+   * @param {object} options
+   * @param {import('../config.js').Config} options.config
+   * @param {any} options.store the ledger store
+   * @param {import('../ledger/accounts.js').AccountBook} options.accounts
+   * @param {import('../coordination/coordinator.js').Coordinator} options.coordinator
+   * @param {import('../metrics.js').Metrics} options.metrics
+   * @param {import('pino').Logger} options.log
+   */
+  constructor ({ config, store, accounts, coordinator, metrics, log }) {
+    this.config = config
+    this.accounts = accounts
+    this.coordinator = coordinator
+    this.metrics = metrics
+    this.log = log
+    this.ledger = new GroupCommit({
+      store,
+      metrics,
+      log,
+      onCommitted: (batch, outcome) => this._committed(batch, outcome),
+      onFailed: (batch, error) => this._failed(batch, error)
+    })
+    /** Passed to Room.step: called for each ball that landed. */
+    this.landed = (drop, landed, tick) => this._landed(drop, landed, tick)
+  }
+
+  /**
+   * Accepts a drop: takes the player's next nonce, derives the drop seed,
+   * reserves the bet and releases the ball at the room's current tick. The
+   * drop is recorded by the tick's group commit and announced only after it.
+   * Throws a GameError (and changes nothing) when the drop is refused.
+   * @param {import('../realtime/connection.js').Connection} connection
+   * @param {import('../rooms/room.js').Room} room
+   * @param {{ bet: number, clientSeed?: string, ref?: any }} request
+   * @returns {import('./drop.js').Drop}
+   */
+  accept (connection, room, { bet, clientSeed, ref }) {
+    const { minBet, maxBet } = this.config
+    if (!Number.isSafeInteger(bet) || bet < minBet || bet > maxBet) throw gameError('E_BAD_BET', `bet must be an integer from ${minBet} to ${maxBet}`)
+    if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
+    const account = connection.account
+    if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
+    if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
+    if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
+    if (bet > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${account.available} is lower than the bet ${bet}`)
+
+    // Never given back, even if the drop fails to commit.
+    const nonce = this.coordinator.takeNonce(account.seed)
+    const id = this.coordinator.takeDropId()
+    let clientSeedChange = null
+    if (clientSeed !== undefined && clientSeed !== account.clientSeed) {
+      clientSeedChange = { previous: account.clientSeed }
+      account.clientSeed = clientSeed
+    }
+    const drop = createDrop({
+      id,
+      account,
+      room,
+      nonce,
+      dropSeed: deriveDropSeed(account.seed.seed, account.clientSeed, nonce),
+      bet,
+      clientSeedChange,
+      ref,
+      origin: connection
+    })
+    account.reserved += bet
+    this.accounts.retain(account)
+    room.release(drop)
+    this.ledger.addDrop(drop)
+    return drop
+  }
+
+  _landed (drop, landed, tick) {
+    this.ledger.addSettlement({
+      drop,
+      bucket: landed.bucket,
+      multiplier: landed.multiplier,
+      payout: payoutFor(drop.bet, landed.multiplier),
+      ticks: landed.ticks,
+      stateHash: landed.stateHash,
+      tick,
+      settledAt: Date.now(),
+      attempts: 0
+    })
+  }
+
+  /**
+   * A batch is durable: apply it to the accounts and tell the rooms.
+   * `outcome` says which drops the ledger refused and gives the committed
+   * balances, which replace the cached ones; each message shows the balance
+   * right after its own change, so a player's messages add up one by one.
+   * @param {import('../ledger/group-commit.js').PendingBatch} batch
+   * @param {import('./money.js').CommitOutcome} outcome
+   */
+  _committed ({ drops, settlements }, outcome) {
+    const running = new RunningBalances(drops, settlements, outcome)
+    /** rooms with events queued by this batch (SPECTATOR_EVENTS=immediate sends them at the end) */
+    const touched = this.config.spectatorEvents === 'immediate' ? new Set() : null
+    this.coordinator.balancesCommitted(outcome.balances.keys())
+    for (const drop of drops) {
+      const account = drop.account
+      const refused = outcome.rejected.get(drop.id)
+      if (refused) {
+        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
+        continue
+      }
+      account.reserved -= drop.bet
+      account.commits++
+      account.balance = running.apply(account.playerId, -drop.bet)
+      drop.announced = true
+      drop.room.show(drop)
+      this.metrics.drops.inc()
+      this.metrics.betTotal.inc(drop.bet)
+      this._broadcast(drop, droppedMessage(drop), account.balance)
+      touched?.add(drop.room)
+    }
+    for (const settlement of settlements) {
+      const { drop, payout } = settlement
+      const account = drop.account
+      account.commits++
+      // Settled by another process (a shared ledger after a takeover): not credited here.
+      account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
+      this.accounts.release(account)
+      this.metrics.settles.inc()
+      this.metrics.payoutTotal.inc(payout)
+      this._broadcast(drop, settledMessage(settlement), account.balance)
+      touched?.add(drop.room)
+    }
+    if (touched) for (const room of touched) room.sendQueuedEvents()
+  }
+
+  /** A batch was rolled back: refuse its drops (nothing was debited) and retry its settlements. */
+  _failed ({ drops, settlements }, error) {
+    this.log.error({ err: error, drops: drops.length, settlements: settlements.length }, 'ledger commit failed')
+    for (let i = drops.length - 1; i >= 0; i--) this._refuse(drops[i], 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
+    for (const settlement of settlements) {
+      if (++settlement.attempts < MAX_SETTLE_ATTEMPTS) {
+        this.ledger.addSettlement(settlement)
+        continue
+      }
+      // Left in flight in the ledger: start-up recovery settles it from its seed.
+      this.log.error({ dropId: settlement.drop.id }, 'giving up settling drop until restart')
+      this.accounts.release(settlement.drop.account)
+      this._sendToOwner(settlement.drop, 'E_INTERNAL', 'the settlement is delayed; it will be credited when the server restarts')
+    }
+  }
+
+  /**
+   * A room left this process (its lease went to another): its drops not yet
+   * sent to the ledger never happened (refused, nothing debited); the rest
+   * are recorded or being recorded, and their outcomes fixed, so their balls
+   * are played out now and settled (a settlement is written only while its
+   * drop is in flight, so the new owner's takeover and this never pay one
+   * twice).
+   * @param {import('../rooms/room.js').Room} room
+   */
+  roomGone (room) {
+    for (const drop of this.ledger.withdrawDrops((d) => d.room === room)) {
+      this._refuse(drop, 'E_ROOM_MOVING', 'the room moved to another process before the drop was recorded; nothing was debited')
+    }
+    let guard = 0
+    while (room.ballsInFlight > 0 && guard++ < 100_000) room.step(this.landed)
+  }
+
+  /** A drop that was not recorded: its ball is forgotten, nothing was debited. */
+  _refuse (drop, code, message) {
+    const account = drop.account
+    drop.room.discard(drop)
+    account.reserved -= drop.bet
+    if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
+    this.accounts.release(account)
+    this._sendToOwner(drop, code, message)
+  }
+
+  /**
+   * Sends a drop event to all of the owner's connections at once (only the
+   * owner's copy carries the balance, and only the connection that asked
+   * gets its `ref` back) and queues it for everyone in the room, who get it
+   * with the room's next snapshot (≤ 1/SNAPSHOT_HZ later) in one frame
+   * with the other events. The owner's connections in the room get that
+   * copy too, and skip their own player's events.
+   */
+  _broadcast (drop, message, balance) {
+    const account = drop.account
+    const owner = JSON.stringify({ ...message, balance })
+    const type = message.type
+    drop.room.queueEvent(JSON.stringify(message))
+    for (const client of account.connections) {
+      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
+      else client.sendEvent(owner, type)
+    }
+  }
+
+  _sendToOwner (drop, code, message) {
+    for (const client of drop.account.connections) {
+      client.sendError(code, message, client === drop.origin ? drop.ref : undefined)
+    }
+  }
+}

@@ -1,0 +1,79 @@
+/**
+ * The money rules, in one place: what a drop costs, what a landing pays,
+ * and how a batch of them changes each player's balance. The ledger batch
+ * (ledger-batch.js) and the balances the players are shown (drop-lifecycle.js)
+ * both come from here, so the database and the messages cannot disagree.
+ */
+
+/**
+ * Credits paid for a bet at a multiplier. Multipliers have at most three
+ * decimals; going through integer thousandths keeps 0.1 + 0.2 style float
+ * error from costing a player a credit.
+ * @param {number} bet integer credits @param {number} multiplier
+ */
+export function payoutFor (bet, multiplier) {
+  return Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+}
+
+/**
+ * Each player's net balance change from a batch: an accepted drop debits its
+ * bet, a settled landing credits its payout. Without `outcome` every drop and
+ * settlement counts (what the batch asks the ledger to write); with it, only
+ * what the ledger committed (a shared ledger may refuse a drop, or find a
+ * drop already settled by another process).
+ * @param {{ playerId: string, bet: number, id: number }[]} drops
+ * @param {{ drop: { playerId: string, id: number }, payout: number }[]} settlements
+ * @param {CommitOutcome} [outcome]
+ * @returns {Map<string, number>} player id → change (entries may be 0)
+ */
+export function balanceChanges (drops, settlements, outcome) {
+  const changes = new Map()
+  for (const drop of drops) {
+    if (outcome?.rejected.has(drop.id)) continue
+    changes.set(drop.playerId, (changes.get(drop.playerId) ?? 0) - drop.bet)
+  }
+  for (const { drop, payout } of settlements) {
+    if (outcome && !outcome.settled.has(drop.id)) continue
+    changes.set(drop.playerId, (changes.get(drop.playerId) ?? 0) + payout)
+  }
+  return changes
+}
+
+/**
+ * A player's balance message by message through one committed batch:
+ * starting from the committed balance less the batch's own changes, each
+ * debit and credit is applied in the order the messages go out, so a
+ * player's `dropped`/`settled` messages add up one by one and the last
+ * shows exactly what the ledger holds.
+ */
+export class RunningBalances {
+  /**
+   * @param {Parameters<typeof balanceChanges>[0]} drops
+   * @param {Parameters<typeof balanceChanges>[1]} settlements
+   * @param {CommitOutcome} outcome
+   */
+  constructor (drops, settlements, outcome) {
+    this.balances = new Map(outcome.balances)
+    for (const [playerId, change] of balanceChanges(drops, settlements, outcome)) {
+      const committed = this.balances.get(playerId)
+      if (committed === undefined) throw new Error(`the ledger did not return the balance of ${playerId}`)
+      this.balances.set(playerId, committed - change)
+    }
+  }
+
+  /** Applies `amount` (negative for a bet) to a player's balance; returns the new balance. */
+  apply (playerId, amount) {
+    const before = this.balances.get(playerId)
+    if (before === undefined) throw new Error(`the ledger did not return the balance of ${playerId}`)
+    const balance = before + amount
+    this.balances.set(playerId, balance)
+    return balance
+  }
+}
+
+/**
+ * @typedef {object} CommitOutcome what a store's commitBatch returns
+ * @property {Map<number, string>} rejected drop id → code of drops the ledger refused (nothing debited)
+ * @property {Set<number>} settled ids of the drops this batch settled (and credited)
+ * @property {Map<string, number>} balances every touched player's balance as committed
+ */
