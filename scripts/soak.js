@@ -137,18 +137,19 @@ function slope (points) {
 function checkLedger (file, players) {
   const db = new Database(file, { readonly: true })
   try {
-    const rows = db.prepare('SELECT id, player_id, rows, risk, engine_version, drop_seed, bet, status, payout FROM drops').all()
+    const rows = db.prepare('SELECT id, player_id, rows, risk, engine_version, drop_seed, bet, status, payout, payout_rule FROM drops').all()
     const boards = new Map()
     const problems = []
-    const balances = new Map(players.map((p) => [p.session.playerId, START]))
+    // The ledger holds balances and payouts in milli-credits, bets in whole credits.
+    const balances = new Map(players.map((p) => [p.session.playerId, START * 1000]))
     const ids = new Set()
     for (const row of rows) {
       ids.add(Number(row.id))
       const key = `${row.rows}-${row.risk}@${row.engine_version}`
       if (!boards.has(key)) boards.set(key, createBoard({ rows: row.rows, risk: row.risk, engineVersion: row.engine_version }))
-      const expected = payoutFor(Number(row.bet), simulateDrop(boards.get(key), row.drop_seed).multiplier)
+      const expected = payoutFor(Number(row.bet), simulateDrop(boards.get(key), row.drop_seed).multiplier, Number(row.payout_rule))
       if (row.status !== 'settled' || Number(row.payout) !== expected) problems.push(`drop ${row.id}: ${row.status}, payout ${row.payout}, expected ${expected}`)
-      if (balances.has(row.player_id)) balances.set(row.player_id, balances.get(row.player_id) - Number(row.bet) + Number(row.payout))
+      if (balances.has(row.player_id)) balances.set(row.player_id, balances.get(row.player_id) - Number(row.bet) * 1000 + Number(row.payout))
     }
     let acked = 0
     for (const player of players) {

@@ -16,12 +16,16 @@ export async function query (url, sql, params = []) {
   }
 }
 
-/** Every player's balance equals start - bets + payouts, and no drop is left in flight. */
+/**
+ * Every player's balance equals start - bets + payouts (the ledger holds
+ * balances and payouts in milli-credits, bets in whole credits).
+ * @param {string} url @param {number} startingBalance credits
+ */
 export async function ledgerMismatches (url, startingBalance) {
   return query(url, `SELECT p.id, p.balance,
-      $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0) AS expected
+      $1::bigint * 1000 - COALESCE(SUM(d.bet), 0) * 1000 + COALESCE(SUM(d.payout), 0) AS expected
     FROM players p LEFT JOIN drops d ON d.player_id = p.id
     GROUP BY p.id, p.balance
-    HAVING p.balance <> $1::bigint - COALESCE(SUM(d.bet), 0) + COALESCE(SUM(d.payout), 0)`, [startingBalance])
+    HAVING p.balance <> $1::bigint * 1000 - COALESCE(SUM(d.bet), 0) * 1000 + COALESCE(SUM(d.payout), 0)`, [startingBalance])
 }
 

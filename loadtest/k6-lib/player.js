@@ -5,7 +5,8 @@
  *
  * - every own `dropped` and `settled` carries the running balance: it must
  *   equal the previous one − bet (dropped) or + payout (settled), starting
- *   from `welcome.balance`, and payout = ⌊bet × multiplier⌋;
+ *   from `welcome.balance`, and payout = bet × multiplier exactly (credits
+ *   with up to three decimals, compared in milli-credits);
  * - every accepted drop gets its `settled` before the player leaves
  *   (`unsettled_drops` counts the ones that do not);
  * - every error frame, unexpected close or failed request is counted by code;
@@ -211,7 +212,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       metrics.dropAck.add(at - sentAt)
       inFlight.set(message.dropId, sentAt)
     }
-    checkBalance(message, balance - message.bet)
+    checkBalance(message, milli(balance) - message.bet * 1000)
   }
 
   function settled (message, at) {
@@ -227,19 +228,20 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       metrics.dropSettleOverhead.add(latency - (message.ticks - 1) * TICK_MS)
       metrics.dropsSettled.add(1)
     }
-    const payout = Math.floor(message.bet * Math.round(message.multiplier * 1000) / 1000)
-    if (message.payout !== payout) {
+    const payout = message.bet * Math.round(message.multiplier * 1000)
+    if (milli(message.payout) !== payout) {
       metrics.errors.add(1, { code: 'X_BAD_PAYOUT' })
-      logOnce(`drop ${message.dropId}: payout ${message.payout}, expected ${payout}`)
+      logOnce(`drop ${message.dropId}: payout ${message.payout}, expected ${payout / 1000}`)
     }
-    checkBalance(message, balance + message.payout)
+    checkBalance(message, milli(balance) + milli(message.payout))
   }
 
+  /** @param {number} expected milli-credits */
   function checkBalance (message, expected) {
-    if (message.balance !== expected) {
+    if (milli(message.balance) !== expected) {
       metrics.balanceMismatches.add(1)
       metrics.errors.add(1, { code: 'X_BALANCE_MISMATCH' })
-      logOnce(`${message.type} ${message.dropId}: balance ${message.balance}, expected ${expected}`)
+      logOnce(`${message.type} ${message.dropId}: balance ${message.balance}, expected ${expected / 1000}`)
     }
     balance = message.balance
   }
@@ -333,4 +335,9 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       metrics.clientBytesPerSecond.add((jsonBytes + frameBytes) / seconds)
     }
   }
+}
+
+/** Credits (up to three decimals, as the server sends them) in milli-credits, for exact sums. */
+function milli (credits) {
+  return Math.round(credits * 1000)
 }

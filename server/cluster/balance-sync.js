@@ -1,3 +1,4 @@
+import { toCredits } from '../game/money.js'
 /** Redis channel on which processes announce the players whose balance they just committed. */
 export const BALANCE_CHANNEL = 'plinko:balances'
 
@@ -72,7 +73,7 @@ export class BalanceSync {
       if (balance === null || account.commits !== commits || balance === account.balance) return
       account.balance = balance
       this.stats.refreshed++
-      for (const connection of account.connections) connection.sendJson({ type: 'balance', balance })
+      for (const connection of account.connections) connection.sendJson({ type: 'balance', balance: toCredits(balance) })
     }, (error) => this.log.warn({ err: error, player: playerId }, 'could not re-read a balance')).finally(() => {
       const again = this._refreshing.get(playerId)
       this._refreshing.delete(playerId)

@@ -1,6 +1,7 @@
 import { PostgresStore, columns, insertInFlightDrops } from '../store/postgres-store.js'
 import { gameError } from '../errors.js'
 import { toDropRecord } from '../store/records.js'
+import { betCost } from '../game/money.js'
 
 /** Nonces reserved per (process, seed) at a time; a reservation is never given back. */
 export const NONCE_BLOCK = 100
@@ -201,7 +202,7 @@ export class SharedLedgerStore extends PostgresStore {
         for (const drop of drops) if (!activeIds.has(drop.serverSeedId)) rejected.set(drop.id, 'E_SEED_ROTATED')
         drops = drops.filter((d) => !rejected.has(d.id))
         const totals = new Map()
-        for (const drop of drops) totals.set(drop.playerId, (totals.get(drop.playerId) ?? 0) + drop.bet)
+        for (const drop of drops) totals.set(drop.playerId, (totals.get(drop.playerId) ?? 0) + betCost(drop.bet))
         if (totals.size > 0) {
           const { rows: debited } = await client.query(`UPDATE players AS p SET balance = p.balance - b.total
             FROM unnest($1::text[], $2::bigint[]) AS b (id, total) WHERE p.id = b.id AND p.balance >= b.total RETURNING p.id`,

@@ -1,7 +1,7 @@
 import { GroupCommit } from '../ledger/group-commit.js'
 import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
 import { gameError } from '../errors.js'
-import { payoutFor, RunningBalances } from './money.js'
+import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
 import { createDrop, droppedMessage, settledMessage } from './drop.js'
 
 /** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
@@ -68,7 +68,7 @@ export class DropLifecycle {
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
     if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
     if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
-    if (bet > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${account.available} is lower than the bet ${bet}`)
+    if (betCost(bet) > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${toCredits(account.available)} is lower than the bet ${bet}`)
 
     // Never given back, even if the drop fails to commit.
     const nonce = this.coordinator.takeNonce(account.seed)
@@ -89,7 +89,7 @@ export class DropLifecycle {
       ref,
       origin: connection
     })
-    account.reserved += bet
+    account.reserved += betCost(bet)
     this.accounts.retain(account)
     room.release(drop)
     this.ledger.addDrop(drop)
@@ -101,7 +101,7 @@ export class DropLifecycle {
       drop,
       bucket: landed.bucket,
       multiplier: landed.multiplier,
-      payout: payoutFor(drop.bet, landed.multiplier),
+      payout: payoutFor(drop.bet, landed.multiplier, drop.payoutRule),
       ticks: landed.ticks,
       stateHash: landed.stateHash,
       tick,
@@ -130,14 +130,14 @@ export class DropLifecycle {
         this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
         continue
       }
-      account.reserved -= drop.bet
+      account.reserved -= betCost(drop.bet)
       account.commits++
-      account.balance = running.apply(account.playerId, -drop.bet)
+      account.balance = running.apply(account.playerId, -betCost(drop.bet))
       drop.announced = true
       drop.room.show(drop)
       this.metrics.drops.inc()
       this.metrics.betTotal.inc(drop.bet)
-      this._broadcast(drop, droppedMessage(drop), account.balance)
+      this._broadcast(drop, droppedMessage(drop), toCredits(account.balance))
       touched?.add(drop.room)
     }
     for (const settlement of settlements) {
@@ -148,8 +148,8 @@ export class DropLifecycle {
       account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
       this.accounts.release(account)
       this.metrics.settles.inc()
-      this.metrics.payoutTotal.inc(payout)
-      this._broadcast(drop, settledMessage(settlement), account.balance)
+      this.metrics.payoutTotal.inc(toCredits(payout))
+      this._broadcast(drop, settledMessage(settlement), toCredits(account.balance))
       touched?.add(drop.room)
     }
     if (touched) for (const room of touched) room.sendQueuedEvents()
@@ -192,7 +192,7 @@ export class DropLifecycle {
   _refuse (drop, code, message) {
     const account = drop.account
     drop.room.discard(drop)
-    account.reserved -= drop.bet
+    account.reserved -= betCost(drop.bet)
     if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
     this.accounts.release(account)
     this._sendToOwner(drop, code, message)
@@ -206,6 +206,7 @@ export class DropLifecycle {
    * with the other events. The owner's connections in the room get that
    * copy too, and skip their own player's events.
    */
+  /** @param {number} balance the owner's, in credits */
   _broadcast (drop, message, balance) {
     const account = drop.account
     const owner = JSON.stringify({ ...message, balance })

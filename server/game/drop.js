@@ -1,3 +1,5 @@
+import { PAYOUT_RULE, toCredits } from './money.js'
+
 /**
  * A drop's record shape, in one place: the in-memory drop from acceptance
  * to settlement, the facts every player is told about it (`dropped`, a late
@@ -11,7 +13,8 @@
  * @property {string} roomId @property {number} rows @property {string} risk
  * @property {string} engineVersion @property {string} seedId @property {string} serverSeedHash
  * @property {string} clientSeed @property {number} nonce @property {string} dropSeed
- * @property {number} bet @property {number} createdAt ms
+ * @property {number} bet whole credits @property {number} payoutRule protocol/payout.js
+ * @property {number} createdAt ms
  * @property {number} startTick @property {number} slot set by Room.release
  * @property {boolean} announced its row is committed and `dropped` was sent
  * @property {boolean} void its row could not be committed: ignored when it lands
@@ -23,7 +26,7 @@
 /**
  * @typedef {object} Settlement a landed ball waiting to be written
  * @property {Drop} drop
- * @property {number} bucket @property {number} multiplier @property {number} payout
+ * @property {number} bucket @property {number} multiplier @property {number} payout milli-credits
  * @property {number} ticks @property {string} stateHash
  * @property {number} tick room tick at landing (drop.startTick + ticks)
  * @property {number} settledAt ms @property {number} attempts commits tried so far
@@ -54,6 +57,7 @@ export function createDrop ({ id, account, room, nonce, dropSeed, bet, clientSee
     nonce,
     dropSeed,
     bet,
+    payoutRule: PAYOUT_RULE,
     createdAt: Date.now(),
     startTick: 0,
     slot: -1,
@@ -86,9 +90,9 @@ export function droppedMessage (drop) {
   return { type: 'dropped', room: drop.roomId, ...publicDropFacts(drop) }
 }
 
-/** The `settled` message (without the owner's balance). @param {Settlement} settlement */
+/** The `settled` message (without the owner's balance), money in credits. @param {Settlement} settlement */
 export function settledMessage ({ drop, bucket, multiplier, payout, ticks, tick, stateHash }) {
-  return { type: 'settled', room: drop.roomId, dropId: drop.id, player: drop.playerId, bet: drop.bet, bucket, multiplier, payout, ticks, tick, stateHash }
+  return { type: 'settled', room: drop.roomId, dropId: drop.id, player: drop.playerId, bet: drop.bet, bucket, multiplier, payout: toCredits(payout), ticks, tick, stateHash }
 }
 
 /** @param {Drop} drop @returns {import('../store/records.js').NewDropRow} */
@@ -106,6 +110,7 @@ export function newDropRow (drop) {
     nonce: drop.nonce,
     dropSeed: drop.dropSeed,
     bet: drop.bet,
+    payoutRule: drop.payoutRule,
     startTick: drop.startTick,
     createdAt: drop.createdAt
   }

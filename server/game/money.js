@@ -1,23 +1,36 @@
+import { MILLI_PER_CREDIT, PAYOUT_RULE, payoutMilli, toCredits, toMilli } from '../../protocol/payout.js'
+
 /**
  * The money rules, in one place: what a drop costs, what a landing pays,
  * and how a batch of them changes each player's balance. The ledger batch
  * (ledger-batch.js) and the balances the players are shown (drop-lifecycle.js)
  * both come from here, so the database and the messages cannot disagree.
+ *
+ * Units: balances, reservations and payouts are integer milli-credits, in
+ * memory and in the ledger; a bet is whole credits. What players and
+ * operators see is credits with up to three decimals (`toCredits`). The
+ * payout itself is protocol/payout.js, which the pages use to check it.
  */
 
-/**
- * Credits paid for a bet at a multiplier. Multipliers have at most three
- * decimals; going through integer thousandths keeps 0.1 + 0.2 style float
- * error from costing a player a credit.
- * @param {number} bet integer credits @param {number} multiplier
- */
-export function payoutFor (bet, multiplier) {
-  return Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+export { PAYOUT_RULE, toCredits, toMilli }
+
+/** Milli-credits a bet of `bet` whole credits costs. @param {number} bet */
+export function betCost (bet) {
+  return bet * MILLI_PER_CREDIT
 }
 
 /**
- * Each player's net balance change from a batch: an accepted drop debits its
- * bet, a settled landing credits its payout. Without `outcome` every drop and
+ * Milli-credits paid for a bet at a multiplier, under the drop's payout
+ * rule (default: the one new drops are paid under).
+ * @param {number} bet whole credits @param {number} multiplier @param {number} [rule]
+ */
+export function payoutFor (bet, multiplier, rule = PAYOUT_RULE) {
+  return payoutMilli(bet, multiplier, rule)
+}
+
+/**
+ * Each player's net balance change (milli-credits) from a batch: an
+ * accepted drop debits its bet's cost, a settled landing credits its payout. Without `outcome` every drop and
  * settlement counts (what the batch asks the ledger to write); with it, only
  * what the ledger committed (a shared ledger may refuse a drop, or find a
  * drop already settled by another process).
@@ -30,7 +43,7 @@ export function balanceChanges (drops, settlements, outcome) {
   const changes = new Map()
   for (const drop of drops) {
     if (outcome?.rejected.has(drop.id)) continue
-    changes.set(drop.playerId, (changes.get(drop.playerId) ?? 0) - drop.bet)
+    changes.set(drop.playerId, (changes.get(drop.playerId) ?? 0) - betCost(drop.bet))
   }
   for (const { drop, payout } of settlements) {
     if (outcome && !outcome.settled.has(drop.id)) continue

@@ -32,7 +32,7 @@ export async function settleInterruptedDrops (store, log, { drops } = {}) {
       continue
     }
     const outcome = simulateDrop(boardOf(roomId, drop.engineVersion), drop.dropSeed)
-    const payout = payoutFor(drop.bet, outcome.multiplier)
+    const payout = payoutFor(drop.bet, outcome.multiplier, drop.payoutRule)
     settlements.push({ drop, bucket: outcome.bucket, multiplier: outcome.multiplier, payout, ticks: outcome.ticks, stateHash: outcome.stateHash, settledAt: Date.now() })
   }
   let result

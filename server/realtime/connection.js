@@ -1,5 +1,6 @@
 import { GameError, ERROR_CODES } from '../errors.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
+import { toCredits } from '../game/money.js'
 import { holdWritesUntilEndOfTurn } from './write-batcher.js'
 
 /** Messages that may arrive while the token is being checked; more than this is abuse. */
@@ -79,7 +80,7 @@ export class Connection {
     this.sendJson({
       type: 'welcome',
       playerId: account.playerId,
-      balance: account.balance,
+      balance: toCredits(account.balance),
       serverSeedHash: account.seed.hash,
       clientSeed: account.clientSeed,
       nonce: account.seed.nextNonce,

@@ -3,7 +3,7 @@ import { simulateDrop, verifyDrop, MIN_ROWS, MAX_ROWS, RISKS, ENGINE_VERSION, EN
 import { requireOperator } from '../auth.js'
 import { gameError } from '../errors.js'
 import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
-import { payoutFor } from '../game/money.js'
+import { payoutFor, toCredits } from '../game/money.js'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
 import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
@@ -50,7 +50,7 @@ export default async function auditRoutes (app, { arena }) {
                 dropSeed: { type: ['string', 'null'] },
                 bucket: { type: 'integer' },
                 multiplier: { type: 'number' },
-                payout: { type: 'integer' },
+                payout: { type: 'number' },
                 ticks: { type: 'integer' },
                 stateHash: { type: 'string' }
               }
@@ -178,12 +178,12 @@ export default async function auditRoutes (app, { arena }) {
             settled: { type: 'integer' },
             inFlight: { type: 'integer' },
             totalBet: { type: 'integer' },
-            totalPayout: { type: 'integer' },
+            totalPayout: { type: 'number' },
             rtp: { type: ['number', 'null'] },
             bucketCounts: { type: 'array', items: { type: 'integer' } },
             buckets: {
               type: 'array',
-              items: { type: 'object', properties: { bucket: { type: 'integer' }, count: { type: 'integer' }, bet: { type: 'integer' }, payout: { type: 'integer' } } }
+              items: { type: 'object', properties: { bucket: { type: 'integer' }, count: { type: 'integer' }, bet: { type: 'integer' }, payout: { type: 'number' } } }
             },
             live: {
               type: ['object', 'null'],
@@ -232,7 +232,8 @@ export function auditDrop (drop, serverSeed) {
     return { drop, replay: null, checks: { engineVersion: false }, matches: false }
   }
   const outcome = simulateDrop(boardOf(`${drop.rows}-${drop.risk}`, drop.engineVersion), drop.dropSeed)
-  const payout = payoutFor(drop.bet, outcome.multiplier)
+  // Under the rule the drop was paid under (protocol/payout.js), in credits as the record shows it.
+  const payout = toCredits(payoutFor(drop.bet, outcome.multiplier, drop.payoutRule))
   const replay = {
     engineVersion: drop.engineVersion,
     serverSeedHash: serverSeed === null ? null : sha256Hex(serverSeed),

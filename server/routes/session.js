@@ -1,5 +1,6 @@
 import { createSession } from '../ledger/sessions.js'
 import { requirePlayer } from '../auth.js'
+import { toCredits } from '../game/money.js'
 import { errors } from './schemas.js'
 import { gameError } from '../errors.js'
 
@@ -8,7 +9,7 @@ const sessionReply = {
   properties: {
     token: { type: 'string' },
     playerId: { type: 'string' },
-    balance: { type: 'integer' },
+    balance: { type: 'number', description: 'credits, up to three decimals' },
     serverSeedHash: { type: 'string' },
     clientSeed: { type: 'string' },
     nonce: { type: 'integer' }
@@ -16,6 +17,18 @@ const sessionReply = {
 }
 
 const { token, ...meProperties } = sessionReply.properties
+
+/**
+ * A guest session takes no options: the body is absent (what the player page,
+ * the k6 players and the scripts send) or `{}`; anything else is 400
+ * E_BAD_REQUEST, so a misspelt option is never silently ignored.
+ */
+const sessionBody = {
+  type: ['object', 'null'],
+  description: 'No options: send no body, or `{}`',
+  properties: {},
+  additionalProperties: false
+}
 
 /**
  * POST /api/session: a new guest player (play money) and its token.
@@ -29,7 +42,8 @@ export default async function sessionRoutes (app, { arena }) {
     config: { rateLimit: { max: config.sessionRateLimit, timeWindow: 60_000 } },
     schema: {
       summary: 'Create a guest session',
-      response: { 201: sessionReply, ...errors(429) }
+      body: sessionBody,
+      response: { 201: sessionReply, ...errors(400, 429) }
     }
   }, async (request, reply) => {
     reply.code(201)
@@ -55,7 +69,7 @@ export default async function sessionRoutes (app, { arena }) {
       const connection = [...account.connections].find((c) => c.room)
       return {
         playerId: account.playerId,
-        balance: account.balance,
+        balance: toCredits(account.balance),
         serverSeedHash: account.seed.hash,
         clientSeed: account.clientSeed,
         nonce: account.seed.nextNonce,

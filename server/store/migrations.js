@@ -1,8 +1,9 @@
 /**
  * The ledger schema, shared word for word by SQLite and PostgreSQL: only
  * types and constructs both accept (TEXT, BIGINT, SMALLINT, INTEGER,
- * DOUBLE PRECISION, CHECK, partial unique indexes). Money is integer credits
- * in BIGINT; times are milliseconds since the Unix epoch in BIGINT.
+ * DOUBLE PRECISION, CHECK, partial unique indexes). Money is integer
+ * milli-credits in BIGINT (balances and payouts; a bet is whole credits),
+ * since migration 2; times are milliseconds since the Unix epoch in BIGINT.
  * Migrations are append-only: never edit one that has shipped.
  */
 export const MIGRATIONS = Object.freeze([
@@ -69,6 +70,18 @@ CREATE INDEX drops_player ON drops (player_id, id);
 CREATE INDEX drops_created ON drops (created_at);
 CREATE INDEX drops_room ON drops (room);
 CREATE INDEX drops_in_flight ON drops (id) WHERE status = 'in_flight';
+`
+  },
+  {
+    version: 2,
+    name: 'money in milli-credits; each drop records its payout rule',
+    // Rule 1 (every drop before this migration): floor(bet × multiplier) credits.
+    // Rule 2 (every drop after it): bet × multiplier exactly, in milli-credits.
+    // See protocol/payout.js; audits recompute each drop under its own rule.
+    sql: `
+UPDATE players SET balance = balance * 1000;
+UPDATE drops SET payout = payout * 1000 WHERE payout IS NOT NULL;
+ALTER TABLE drops ADD COLUMN payout_rule SMALLINT NOT NULL DEFAULT 1 CHECK (payout_rule IN (1, 2));
 `
   }
 ])

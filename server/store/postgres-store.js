@@ -222,13 +222,13 @@ export function columns (rows, fields) {
  */
 export async function insertInFlightDrops (client, drops) {
   await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-      server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
+      server_seed_hash, client_seed, nonce, drop_seed, bet, payout_rule, start_tick, status, created_at)
     SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-      nonce, drop_seed, bet, start_tick, 'in_flight', created_at
+      nonce, drop_seed, bet, payout_rule, start_tick, 'in_flight', created_at
     FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
-      $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::bigint[], $14::bigint[])
+      $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::smallint[], $14::bigint[], $15::bigint[])
       AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-        nonce, drop_seed, bet, start_tick, created_at)`,
+        nonce, drop_seed, bet, payout_rule, start_tick, created_at)`,
   columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
-    'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'createdAt']))
+    'clientSeed', 'nonce', 'dropSeed', 'bet', 'payoutRule', 'startTick', 'createdAt']))
 }

@@ -1,3 +1,5 @@
+import { toCredits } from '../../protocol/payout.js'
+
 /**
  * Maps database rows (snake_case, the same from both stores once numbers are
  * parsed) to the records the API returns, and describes what the ledger
@@ -24,7 +26,8 @@ export function toDropRecord (row) {
     bet: Number(row.bet),
     bucket: row.bucket === null ? null : Number(row.bucket),
     multiplier: row.multiplier === null ? null : Number(row.multiplier),
-    payout: row.payout === null ? null : Number(row.payout),
+    payout: row.payout === null ? null : toCredits(Number(row.payout)),
+    payoutRule: Number(row.payout_rule),
     startTick: Number(row.start_tick),
     ticks: row.ticks === null ? null : Number(row.ticks),
     stateHash: row.state_hash,
@@ -45,13 +48,14 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  * @property {number} rows @property {string} risk @property {string} engineVersion
  * @property {string} serverSeedId @property {string} serverSeedHash
  * @property {string} clientSeed @property {number} nonce @property {string} dropSeed
- * @property {number} bet @property {number} startTick @property {number} createdAt ms
+ * @property {number} bet whole credits @property {number} payoutRule protocol/payout.js
+ * @property {number} startTick @property {number} createdAt ms
  */
 
 /**
  * @typedef {object} SettlementRow what the ledger writes when a drop lands
  * @property {number} id @property {number} bucket @property {number} multiplier
- * @property {number} payout @property {number} ticks @property {string} stateHash
+ * @property {number} payout milli-credits @property {number} ticks @property {string} stateHash
  * @property {number} settledAt ms
  */
 
@@ -59,7 +63,7 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  * @typedef {object} LedgerBatch one transaction: everything one tick changed
  * @property {NewDropRow[]} drops
  * @property {SettlementRow[]} settlements
- * @property {{ playerId: string, delta: number }[]} balances net change per player
+ * @property {{ playerId: string, delta: number }[]} balances net change per player, milli-credits
  * @property {{ seedId: string, nextNonce: number }[]} nonces
  * @property {{ playerId: string, clientSeed: string }[]} clientSeeds
  * @property {string[]} [players] every player the batch touches: the store returns their committed balances
@@ -93,7 +97,7 @@ export function seedFromRow (row) {
 export function statsFromRows (bucketRows, inFlight) {
   let drops = 0; let totalBet = 0; let totalPayout = 0
   const buckets = bucketRows.map((row) => {
-    const count = Number(row.count); const bet = Number(row.bet); const payout = Number(row.payout)
+    const count = Number(row.count); const bet = Number(row.bet); const payout = toCredits(Number(row.payout))
     drops += count; totalBet += bet; totalPayout += payout
     return { bucket: Number(row.bucket), count, bet, payout }
   })

@@ -11,8 +11,8 @@
  */
 export function prepareWrites (db) {
   const insertDrop = db.prepare(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-      server_seed_hash, client_seed, nonce, drop_seed, bet, start_tick, status, created_at)
-    VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 'in_flight', ?)`)
+      server_seed_hash, client_seed, nonce, drop_seed, bet, payout_rule, start_tick, status, created_at)
+    VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 'in_flight', ?)`)
   const settle = db.prepare(`UPDATE drops SET status = 'settled', bucket = ?, multiplier = ?, payout = ?,
       ticks = ?, state_hash = ?, settled_at = ? WHERE id = ? AND status = 'in_flight'`)
   const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
@@ -33,7 +33,7 @@ export function prepareWrites (db) {
     commitBatch: db.transaction((batch) => {
       for (const d of batch.drops) {
         insertDrop.run(d.id, d.playerId, d.room, d.rows, d.risk, d.engineVersion, d.serverSeedId,
-          d.serverSeedHash, d.clientSeed, d.nonce, d.dropSeed, d.bet, d.startTick, d.createdAt)
+          d.serverSeedHash, d.clientSeed, d.nonce, d.dropSeed, d.bet, d.payoutRule, d.startTick, d.createdAt)
       }
       for (const s of batch.settlements) {
         const { changes } = settle.run(s.bucket, s.multiplier, s.payout, s.ticks, s.stateHash, s.settledAt, s.id)

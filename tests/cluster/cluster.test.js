@@ -100,7 +100,7 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     const settled = await owner.take((m) => m.type === 'settled' && m.dropId === winner.dropId)
     expect(settled.balance).toBe(100 - 100 + settled.payout)
     const rows = await query(databaseUrl, 'SELECT balance FROM players WHERE id = $1', [carol.playerId])
-    expect(Number(rows[0].balance)).toBe(settled.payout)
+    expect(Number(rows[0].balance)).toBe(Math.round(settled.payout * 1000)) // the ledger holds milli-credits
     // The other process hears of it (Redis) and shows the committed balance on its connection too.
     const other = owner === onA ? onB : onA
     expect(await other.take((m) => m.type === 'balance' && m.balance === settled.payout)).toMatchObject({ balance: settled.payout })
@@ -221,7 +221,7 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     const [me] = await query(databaseUrl, 'SELECT balance FROM players WHERE id = $1', [mover.session.playerId])
     onB.send({ type: 'drop', bet: 1, ref: 'after' })
     const next = await onB.take((m) => m.ref === 'after')
-    expect(next).toMatchObject({ type: 'dropped', balance: Number(me.balance) - 1 })
+    expect(next).toMatchObject({ type: 'dropped', balance: (Number(me.balance) - 1000) / 1000 })
     const nonces = dropped.filter((d) => d.player === mover.session.playerId).map((d) => d.nonce)
     expect(nonces).not.toContain(next.nonce)
     await onB.take((m) => m.type === 'settled' && m.dropId === next.dropId)

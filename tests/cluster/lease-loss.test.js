@@ -83,12 +83,13 @@ describe('cluster: a lease lost with drops in flight', () => {
     await eventually(async () => {
       const again = await GameClient.connect(a.wsUrl(alice.token))
       clients.push(again)
-      return again.welcome.balance === Number(balance)
+      return again.welcome.balance === Number(balance) / 1000 // the ledger holds milli-credits
     }, { timeoutMs: 10_000 })
     const onA2 = await connect(a, alice.token)
     expect(await join(onA2, '8-low')).toMatchObject({ type: 'joined' })
-    onA2.send({ type: 'drop', bet: Number(balance), ref: 'all-in' })
+    const allIn = Math.floor(Number(balance) / 1000) // every whole credit of it
+    onA2.send({ type: 'drop', bet: allIn, ref: 'all-in' })
     const reply = await onA2.take((m) => m.ref === 'all-in')
-    expect(reply, JSON.stringify(reply)).toMatchObject({ type: 'dropped', bet: Number(balance) })
+    expect(reply, JSON.stringify(reply)).toMatchObject({ type: 'dropped', bet: allIn })
   }, 120_000)
 })

@@ -17,13 +17,14 @@ describe('shared ledger (clustered PostgreSQL store)', () => {
     const a = await openSharedLedger({ url })
     const b = await openSharedLedger({ url })
     const seed = { id: 's1', seed: 'seed-1', hash: 'h'.repeat(64) }
-    await a.createPlayer({ id: 'p1', tokenHash: 't'.repeat(64), balance: 100, clientSeed: 'c', createdAt: 1, seed })
+    // The store takes milli-credits: 100 credits. Bets are whole credits.
+    await a.createPlayer({ id: 'p1', tokenHash: 't'.repeat(64), balance: 100_000, clientSeed: 'c', createdAt: 1, seed })
     return { a, b, close: async () => { await a.close(); await b.close() } }
   }
 
   const dropRow = (id, nonce, bet, extra = {}) => ({
     id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: createBoard({ rows: 8, risk: 'low' }).engineVersion,
-    serverSeedId: 's1', serverSeedHash: 'h'.repeat(64), clientSeed: 'c', nonce, dropSeed: `seed-${id}`, bet, startTick: 0, createdAt: 2, ...extra
+    serverSeedId: 's1', serverSeedHash: 'h'.repeat(64), clientSeed: 'c', nonce, dropSeed: `seed-${id}`, bet, payoutRule: 2, startTick: 0, createdAt: 2, ...extra
   })
   const batch = (drops, settlements = []) => ({ drops, settlements, balances: [], nonces: [], clientSeeds: [] })
 
@@ -47,9 +48,9 @@ describe('shared ledger (clustered PostgreSQL store)', () => {
       const first = await a.commitBatch(batch([dropRow(1, 0, 80)]))
       const second = await b.commitBatch(batch([dropRow(2, 1000, 80)]))
       expect(first.rejected.size).toBe(0)
-      expect(first.balances.get('p1')).toBe(20)
+      expect(first.balances.get('p1')).toBe(20_000)
       expect([...second.rejected]).toEqual([[2, 'E_INSUFFICIENT_FUNDS']])
-      expect(second.balances.get('p1')).toBe(20)
+      expect(second.balances.get('p1')).toBe(20_000)
       expect((await a.listInFlightDrops()).map((d) => d.id)).toEqual([1])
     } finally { await close() }
   })
@@ -65,7 +66,7 @@ describe('shared ledger (clustered PostgreSQL store)', () => {
       ])
       expect(ra.settled + rb.settled).toBe(2)
       const board = createBoard({ rows: 8, risk: 'low' })
-      const payout = (id) => Math.floor(50 * Math.round(simulateDrop(board, `seed-${id}`).multiplier * 1000) / 1000)
+      const payout = (id) => 50 * Math.round(simulateDrop(board, `seed-${id}`).multiplier * 1000) // milli-credits, exact
       const { balance } = await a.loadAccount('p1')
       expect(balance).toBe(payout(1) + payout(2))
       expect(await a.listInFlightDrops()).toEqual([])
@@ -79,7 +80,7 @@ describe('shared ledger (clustered PostgreSQL store)', () => {
       await b.rotateSeed({ playerId: 'p1', oldSeedId: 's1', newSeed: { id: 's2', seed: 'seed-2', hash: 'k'.repeat(64) }, at: 3 })
       const result = await a.commitBatch(batch([dropRow(1, 0, 10)]))
       expect([...result.rejected]).toEqual([[1, 'E_SEED_ROTATED']])
-      expect(result.balances.get('p1')).toBe(100)
+      expect(result.balances.get('p1')).toBe(100_000)
     } finally { await close() }
   })
 })

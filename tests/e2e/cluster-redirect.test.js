@@ -78,7 +78,8 @@ describe('player page in a cluster', () => {
     const playerId = await page.evaluate(() => window.__plinko.playerId)
     const drops = await query(proxy.databaseUrl, "SELECT bet, payout FROM drops WHERE player_id = $1 AND status = 'settled'", [playerId])
     expect(drops).toHaveLength(3)
-    const expected = before - drops.reduce((sum, d) => sum + Number(d.bet) - Number(d.payout), 0)
+    // The ledger holds payouts in milli-credits, the page shows credits.
+    const expected = (Math.round(before * 1000) - drops.reduce((sum, d) => sum + Number(d.bet) * 1000 - Number(d.payout), 0)) / 1000
     await waitInPage(page, 'the settled balance', (balance) => window.__plinko.balance === balance, expected)
     expect(await ledgerMismatches(proxy.databaseUrl, 100000)).toEqual([])
     expect(page.problems).toEqual([])

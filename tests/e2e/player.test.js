@@ -144,8 +144,9 @@ describe('player page in Chromium', () => {
     // The balance shown is the ledger's.
     const me = await server.api('GET', '/api/me', { token: await sessionToken(page) })
     expect(me.body.balance).toBe(result.balance)
-    const paid = result.history.reduce((sum, h) => sum + h.payout - h.bet, 0)
-    expect(result.balance).toBe(startBalance + paid)
+    // Summed in milli-credits: payouts carry up to three decimals.
+    const paid = result.history.reduce((sum, h) => sum + Math.round(h.payout * 1000) - h.bet * 1000, 0)
+    expect(Math.round(result.balance * 1000)).toBe(Math.round(startBalance * 1000) + paid)
 
     // The board is drawn: many colours on the canvas, pegs lit.
     const canvas = await canvasStats(page)

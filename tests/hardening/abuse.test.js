@@ -354,9 +354,9 @@ describe('slow and vanished clients', () => {
       const found = await backend.query(server.database.database, "SELECT id, payout FROM drops WHERE player_id = $1 AND status = 'settled'", [session.playerId])
       return found.length === 5 && found
     })
-    const expected = 100000 - 150 + rows.reduce((sum, r) => sum + Number(r.payout), 0)
+    const expected = (100000 - 150) * 1000 + rows.reduce((sum, r) => sum + Number(r.payout), 0) // milli-credits
     const again = await server.connect(token)
-    expect(again.welcome.balance).toBe(expected)
+    expect(Math.round(again.welcome.balance * 1000)).toBe(expected)
     const history = await server.api('GET', '/api/drops', { token })
     expect(history.body.drops.map((d) => d.status)).toEqual(Array(5).fill('settled'))
     await expectConsistentLedger(expect, backend, server.database.database, { playerIds: [session.playerId], startingBalance: 100000 })

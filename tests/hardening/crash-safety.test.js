@@ -73,13 +73,13 @@ describe.each(STORE_KINDS)('crash safety on %s', (kind) => {
         const row = ledger.get(drop.dropId)
         expect(row, `acknowledged drop ${drop.dropId} is in the ledger`).toBeDefined()
         expect(row).toMatchObject({ playerId: drop.player, bet: drop.bet })
-        if (drop.settledBeforeCrash) expect(row.payout).toBe(drop.settledBeforeCrash.payout)
+        if (drop.settledBeforeCrash) expect(row.payout).toBe(Math.round(drop.settledBeforeCrash.payout * 1000)) // milli-credits in the ledger
       }
       // Each player sees the recovered balance on reconnect.
       for (const { session } of players) {
         const [row] = await backend.query(db.database, 'SELECT balance FROM players WHERE id = $1', [session.playerId])
         const client = await GameClient.connect(`ws://127.0.0.1:${port}/ws?token=${session.token}`)
-        expect(client.welcome.balance).toBe(Number(row.balance))
+        expect(Math.round(client.welcome.balance * 1000)).toBe(Number(row.balance)) // the ledger holds milli-credits
         await client.close()
       }
       console.info(`[crash-safety ${kind}] acknowledged ${ackedDrops.length} drops, ledger ${ledger.size}, in flight at the kill ${Number(inFlight.n)}, settled before it ${settledBeforeCrash}; all settled after restart, balances exact`)

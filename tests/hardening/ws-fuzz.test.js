@@ -183,7 +183,7 @@ describe.each(STORE_KINDS)('WebSocket protocol fuzz on %s', (kind) => {
     const dropped = await client.take('dropped')
     expect(dropped.ref).toBe('after-fuzz')
     const settled = await client.take('settled')
-    expect(settled.balance).toBe(100000 - 100 + settled.payout)
+    expect(Math.round(settled.balance * 1000)).toBe((100000 - 100) * 1000 + Math.round(settled.payout * 1000)) // summed in milli-credits
     const ledger = await expectConsistentLedger(expect, backend, database.database, { playerIds: [session.playerId], startingBalance: 100000 })
     expect(ledger.size).toBe(1)
     await client.close()

@@ -2,7 +2,7 @@ import fs from 'node:fs'
 import { fileURLToPath } from 'node:url'
 import Database from 'better-sqlite3'
 import pg from 'pg'
-import { openStore } from '../../server/store/open-store.js'
+import { MIGRATIONS, MIGRATIONS_TABLE } from '../../server/store/migrations.js'
 
 /**
  * A ledger recorded by a real server of an older engine version
@@ -15,12 +15,14 @@ export function ledgerFixture (version) {
   return { dir, sqliteFile: `${dir}ledger.sqlite`, ...JSON.parse(fs.readFileSync(`${dir}fixture.json`, 'utf8')) }
 }
 
-const TABLES = ['players', 'server_seeds', 'drops']
+const TABLES = ['schema_migrations', 'players', 'server_seeds', 'drops']
 
 /**
  * Puts a fixture's ledger into a fresh test database (storeBackend().newDatabase()):
- * the SQLite file is copied as it is; for PostgreSQL the schema is migrated
- * and every row copied over, so both stores start from the same old ledger.
+ * the SQLite file is copied as it is; for PostgreSQL the schema is built
+ * by the migrations the fixture's ledger had (no later ones) and every row
+ * copied over, so both stores start from the same old ledger and the
+ * server that opens it runs the later migrations on either.
  * @param {{ database: { kind: string, file?: string, url?: string } }} database
  * @param {ReturnType<typeof ledgerFixture>} fixture
  */
@@ -29,12 +31,13 @@ export async function loadLedgerFixture (database, fixture) {
     fs.copyFileSync(fixture.sqliteFile, database.database.file)
     return
   }
-  const store = await openStore(database.database) // creates the schema
-  await store.close()
   const source = new Database(fixture.sqliteFile, { readonly: true })
   const client = new pg.Client({ connectionString: database.database.url })
   await client.connect()
   try {
+    const applied = new Set(source.prepare('SELECT version FROM schema_migrations').pluck().all())
+    await client.query(MIGRATIONS_TABLE)
+    for (const migration of MIGRATIONS) if (applied.has(migration.version)) await client.query(migration.sql)
     for (const table of TABLES) {
       for (const row of source.prepare(`SELECT * FROM ${table} ORDER BY rowid`).all()) {
         const names = Object.keys(row)
@@ -49,9 +52,18 @@ export async function loadLedgerFixture (database, fixture) {
 
 /** Every drop row of the fixture's ledger, by id, as recorded (before any upgrade touched it). */
 export function fixtureDrops (fixture) {
+  return fixtureRows(fixture, 'SELECT * FROM drops ORDER BY id')
+}
+
+/** Every player row of the fixture's ledger, as recorded (balances in whole credits). */
+export function fixturePlayers (fixture) {
+  return fixtureRows(fixture, 'SELECT * FROM players ORDER BY id')
+}
+
+function fixtureRows (fixture, sql) {
   const source = new Database(fixture.sqliteFile, { readonly: true })
   try {
-    return source.prepare('SELECT * FROM drops ORDER BY id').all()
+    return source.prepare(sql).all()
   } finally {
     source.close()
   }

@@ -11,7 +11,7 @@ import { createBoard, simulateDrop, verifyDrop, ENGINE_VERSION } from '../../eng
 import { payoutFor } from '../../server/game/money.js'
 import { STORE_KINDS, storeBackend } from './helpers/stores.js'
 import { startServer, OPERATOR_TOKEN } from './helpers/server.js'
-import { ledgerFixture, loadLedgerFixture, fixtureDrops } from '../helpers/ledger-fixture.js'
+import { ledgerFixture, loadLedgerFixture, fixtureDrops, fixturePlayers } from '../helpers/ledger-fixture.js'
 
 const OLD = '1.0.0'
 const fixture = ledgerFixture(OLD)
@@ -46,8 +46,10 @@ describe.each(STORE_KINDS)('engine upgrade from 1.0.0 on %s', (kind) => {
       expect(row.status).toBe('settled')
       expect(row.engine_version).toBe(OLD)
       const old = simulate(row, OLD)
-      expect({ bucket: row.bucket, ticks: row.ticks, state_hash: row.state_hash, payout: Number(row.payout) })
-        .toEqual({ bucket: old.bucket, ticks: old.ticks, state_hash: old.stateHash, payout: payoutFor(Number(row.bet), old.multiplier) })
+      // Recorded before migration 2: paid under the legacy rule (whole credits), held in milli-credits.
+      expect({ bucket: row.bucket, ticks: row.ticks, state_hash: row.state_hash, payout: Number(row.payout), payout_rule: Number(row.payout_rule) })
+        .toEqual({ bucket: old.bucket, ticks: old.ticks, state_hash: old.stateHash, payout: payoutFor(Number(row.bet), old.multiplier, 1), payout_rule: 1 })
+      expect(Number(row.payout) % 1000).toBe(0)
       if (simulate(row, ENGINE_VERSION).stateHash !== old.stateHash) differsUnderNewest++
     }
     // The version matters: the newest engine would have decided these drops differently.
@@ -57,9 +59,21 @@ describe.each(STORE_KINDS)('engine upgrade from 1.0.0 on %s', (kind) => {
   it('keeps what players were told before the upgrade: every settled drop as announced', async () => {
     for (const settled of fixture.settled) {
       const [row] = await backend.query(database.database, 'SELECT * FROM drops WHERE id = $1', [settled.dropId])
-      expect({ bucket: row.bucket, payout: Number(row.payout), ticks: row.ticks, stateHash: row.state_hash, engineVersion: row.engine_version })
-        .toEqual({ bucket: settled.bucket, payout: settled.payout, ticks: settled.ticks, stateHash: settled.stateHash, engineVersion: OLD })
+      expect({ bucket: row.bucket, payout: Number(row.payout), payoutRule: Number(row.payout_rule), ticks: row.ticks, stateHash: row.state_hash, engineVersion: row.engine_version })
+        .toEqual({ bucket: settled.bucket, payout: settled.payout * 1000, payoutRule: 1, ticks: settled.ticks, stateHash: settled.stateHash, engineVersion: OLD })
     }
+  })
+
+  it('moves every balance to milli-credits exactly once (migration 2), the drops it settled credited on top', async () => {
+    const source = fixturePlayers(fixture)
+    for (const player of source) {
+      const [row] = await backend.query(database.database, 'SELECT balance FROM players WHERE id = $1', [player.id])
+      const credited = (await backend.query(database.database, `SELECT payout FROM drops WHERE player_id = $1 AND id IN (${fixture.inFlightDropIds.join(', ')})`, [player.id]))
+        .reduce((sum, d) => sum + Number(d.payout), 0)
+      expect(Number(row.balance)).toBe(player.balance * 1000 + credited)
+    }
+    const [{ version }] = await backend.query(database.database, 'SELECT MAX(version) AS version FROM schema_migrations')
+    expect(Number(version)).toBe(2)
   })
 
   it('audits every 1.0.0 drop under 1.0.0 (GET /api/audit/drops/:id)', async () => {

@@ -5,7 +5,9 @@ import { quantizePosition } from '../../protocol/snapshot-codec.js'
 import { STORE_KINDS } from './helpers/stores.js'
 import { useServerOn, eventually } from './helpers/server.js'
 
-const payoutFor = (bet, multiplier) => Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+// Money: balances and payouts in milli-credits in the ledger, credits with up to three decimals on the wire.
+const payoutMilli = (bet, multiplier) => bet * Math.round(multiplier * 1000)
+const milli = (credits) => Math.round(credits * 1000)
 
 describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
   const context = useServerOn(kind)
@@ -29,7 +31,7 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
     expect(rows).toHaveLength(1)
     expect(rows[0].token_hash).toBe(createHash('sha256').update(session.token).digest('hex'))
     expect(rows[0].token_hash).not.toBe(session.token)
-    expect(Number(rows[0].balance)).toBe(100000)
+    expect(Number(rows[0].balance)).toBe(100000 * 1000)
   })
 
   it('joins, drops and settles; the ledger, the replay and the snapshots all agree', async () => {
@@ -50,8 +52,8 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
     expect(settled.dropId).toBe(dropped.dropId)
     // The client-observed start tick plus the ticks in flight is the tick it settled at.
     expect(dropped.startTick + settled.ticks).toBe(settled.tick)
-    expect(settled.payout).toBe(payoutFor(bet, settled.multiplier))
-    expect(settled.balance).toBe(100000 - bet + settled.payout)
+    expect(milli(settled.payout)).toBe(payoutMilli(bet, settled.multiplier))
+    expect(milli(settled.balance)).toBe((100000 - bet) * 1000 + payoutMilli(bet, settled.multiplier))
 
     // The engine replays the drop from its seed alone to the same end.
     const board = createBoard({ rows: 12, risk: 'high' })
@@ -61,7 +63,7 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
 
     // The ledger row is the same drop.
     const [row] = await backend.query(database.database, 'SELECT * FROM drops WHERE id = $1', [dropped.dropId])
-    expect(row).toMatchObject({ player_id: session.playerId, room, rows: 12, risk: 'high', bet, nonce: 0, drop_seed: dropped.dropSeed, bucket: settled.bucket, payout: settled.payout, ticks: settled.ticks, state_hash: settled.stateHash, status: 'settled', start_tick: dropped.startTick })
+    expect(row).toMatchObject({ player_id: session.playerId, room, rows: 12, risk: 'high', bet, nonce: 0, drop_seed: dropped.dropSeed, bucket: settled.bucket, payout: milli(settled.payout), payout_rule: 2, ticks: settled.ticks, state_hash: settled.stateHash, status: 'settled', start_tick: dropped.startTick })
     const me = await server.api('GET', '/api/me', { token: session.token })
     expect(me.body.balance).toBe(settled.balance)
     expect(me.body.nonce).toBe(1)
@@ -104,17 +106,17 @@ describe.each(STORE_KINDS)('gameplay on %s', (kind) => {
       // Every accepted bet was announced once, with consecutive, never-reused nonces.
       expect(dropped.map((d) => d.bet)).toEqual(bets[p])
       expect(dropped.map((d) => d.nonce)).toEqual(Array.from({ length: dropsPerPlayer }, (_, i) => i))
-      const expected = 100000 - bets[p].reduce((a, b) => a + b, 0) + settled.reduce((a, s) => a + s.payout, 0)
-      for (const s of settled) expect(s.payout).toBe(payoutFor(s.bet, s.multiplier))
+      const expected = (100000 - bets[p].reduce((a, b) => a + b, 0)) * 1000 + settled.reduce((a, s) => a + payoutMilli(s.bet, s.multiplier), 0)
+      for (const s of settled) expect(milli(s.payout)).toBe(payoutMilli(s.bet, s.multiplier))
 
       const me = await server.api('GET', '/api/me', { token: session.token })
-      expect(me.body.balance).toBe(expected)
+      expect(milli(me.body.balance)).toBe(expected)
       const [player] = await backend.query(database.database, 'SELECT balance FROM players WHERE id = $1', [session.playerId])
       expect(Number(player.balance)).toBe(expected)
       const [sums] = await backend.query(database.database,
         "SELECT COUNT(*) AS n, SUM(bet) AS bet, SUM(payout) AS payout FROM drops WHERE player_id = $1 AND status = 'settled'", [session.playerId])
       expect(Number(sums.n)).toBe(dropsPerPlayer)
-      expect(100000 - Number(sums.bet) + Number(sums.payout)).toBe(expected)
+      expect((100000 - Number(sums.bet)) * 1000 + Number(sums.payout)).toBe(expected)
       expect(client.messages.filter((m) => m.type === 'error')).toEqual([])
     }
 

@@ -91,7 +91,8 @@ describe('GroupCommit', () => {
       drops: [drop(1, 'a'), drop(2, 'a', { clientSeedChange: { previous: 'c0' }, clientSeed: 'new' }), drop(3, 'b')],
       settlements: [{ drop: drop(9, 'a'), bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }]
     })
-    expect(rows.balances).toEqual([{ playerId: 'a', delta: -10 - 20 + 500 }, { playerId: 'b', delta: -30 }])
+    // Milli-credits: a bet of 10 credits costs 10,000; the payout is already milli-credits.
+    expect(rows.balances).toEqual([{ playerId: 'a', delta: -10_000 - 20_000 + 500 }, { playerId: 'b', delta: -30_000 }])
     expect(rows.nonces).toEqual([{ seedId: 's-a', nextNonce: 3 }, { seedId: 's-b', nextNonce: 4 }])
     expect(rows.clientSeeds).toEqual([{ playerId: 'a', clientSeed: 'new' }])
     expect(rows.settlements).toEqual([{ id: 9, bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }])

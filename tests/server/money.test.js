@@ -1,7 +1,8 @@
 import { describe, it, expect } from 'vitest'
 import fc from 'fast-check'
-import { balanceChanges, RunningBalances, payoutFor } from '../../server/game/money.js'
+import { balanceChanges, RunningBalances, payoutFor, betCost } from '../../server/game/money.js'
 import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { calibrationOf, multiplierTable, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/index.js'
 
 const players = ['a', 'b', 'c']
 
@@ -22,7 +23,7 @@ const batches = fc.record({
   const start = new Map(players.map((p, i) => [p, before[i]]))
   // What the ledger would hold afterwards: the start plus what it committed.
   for (const p of players) outcome.balances.set(p, start.get(p))
-  for (const x of d) if (!x.refused) outcome.balances.set(x.playerId, outcome.balances.get(x.playerId) - x.bet)
+  for (const x of d) if (!x.refused) outcome.balances.set(x.playerId, outcome.balances.get(x.playerId) - x.bet * 1000)
   for (const x of s) if (!x.elsewhere) outcome.balances.set(x.drop.playerId, outcome.balances.get(x.drop.playerId) + x.payout)
   return { drops: d, settlements: s, outcome, start }
 })
@@ -34,8 +35,8 @@ describe('money rules (server/game/money.js)', () => {
       const shown = new Map(start)
       for (const drop of drops) {
         if (outcome.rejected.has(drop.id)) continue
-        shown.set(drop.playerId, shown.get(drop.playerId) - drop.bet)
-        expect(running.apply(drop.playerId, -drop.bet)).toBe(shown.get(drop.playerId))
+        shown.set(drop.playerId, shown.get(drop.playerId) - drop.bet * 1000)
+        expect(running.apply(drop.playerId, -betCost(drop.bet))).toBe(shown.get(drop.playerId))
       }
       for (const { drop, payout } of settlements) {
         const credited = outcome.settled.has(drop.id) ? payout : 0
@@ -60,9 +61,26 @@ describe('money rules (server/game/money.js)', () => {
     expect(() => new RunningBalances([{ id: 1, playerId: 'a', bet: 5 }], [], outcome)).toThrow(/did not return the balance of a/)
   })
 
-  it('pays integer thousandths of the multiplier, rounded down', () => {
-    expect(payoutFor(10, 0.3)).toBe(3)
-    expect(payoutFor(3, 0.1 + 0.2)).toBe(0)
-    expect(payoutFor(1000, 1000)).toBe(1_000_000)
+  it('pays bet × multiplier exactly in milli-credits, and old drops under the legacy floor rule', () => {
+    expect(payoutFor(10, 0.3)).toBe(3000)
+    expect(payoutFor(1, 0.1 + 0.2)).toBe(300) // float error does not cost the player
+    expect(payoutFor(1, 0.2)).toBe(200)
+    expect(payoutFor(1000, 1000)).toBe(1_000_000_000)
+    expect(payoutFor(1, 0.3, 1)).toBe(0) // rule 1: floor to whole credits, as 1.0.0 ledgers paid
+    expect(payoutFor(7, 1.5, 1)).toBe(10_000)
+    expect(() => payoutFor(1, 1, 3)).toThrow(/no payout rule 3/)
+  })
+
+  it('returns the advertised RTP at the minimum bet on every table (issue #14: floor rounding once paid 42–72%)', () => {
+    for (let rows = MIN_ROWS; rows <= MAX_ROWS; rows++) {
+      const { drops, bucketCounts, rtp } = calibrationOf(rows)
+      for (const risk of RISKS) {
+        const table = multiplierTable(rows, risk)
+        // Effective return of 1-credit bets on the calibration's own drops, under each rule.
+        const returned = (rule) => bucketCounts.reduce((sum, n, b) => sum + n * payoutFor(1, table[b], rule), 0) / 1000 / drops
+        expect(Math.abs(returned(2) - rtp[risk]), `${rows}-${risk}`).toBeLessThan(1e-6) // the calibration's RTP is stored rounded
+        expect(returned(1), `${rows}-${risk} under the legacy rule`).toBeLessThan(rtp[risk] - 0.05)
+      }
+    }
   })
 })

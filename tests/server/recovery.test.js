@@ -10,7 +10,8 @@ import { startServer, OPERATOR_TOKEN } from './helpers/server.js'
 import { GameClient } from './helpers/game-client.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..')
-const payoutFor = (bet, multiplier) => Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+// The ledger holds milli-credits; new drops pay bet × multiplier exactly.
+const payoutMilli = (bet, multiplier) => bet * Math.round(multiplier * 1000)
 const silentLog = { info () {}, warn () {}, error () {} }
 
 /** `npm start` in a child process on a free port; resolves once it listens. */
@@ -64,22 +65,22 @@ describe.each(STORE_KINDS)('recovery and persistence on %s', (kind) => {
     const inFlight = await backend.query(db.database, "SELECT id FROM drops WHERE status = 'in_flight' ORDER BY id")
     expect(inFlight.map((row) => Number(row.id))).toEqual(dropped.map((d) => d.dropId))
     const [debited] = await backend.query(db.database, 'SELECT balance FROM players WHERE id = $1', [session.playerId])
-    expect(Number(debited.balance)).toBe(100000 - 600)
+    expect(Number(debited.balance)).toBe((100000 - 600) * 1000)
 
     const server = await startServer(db)
     try {
       const rows = await backend.query(db.database, 'SELECT * FROM drops ORDER BY id')
       const board = createBoard({ rows: 16, risk: 'high' })
-      let expected = 100000
+      let expected = 100000 * 1000
       for (const [i, row] of rows.entries()) {
         const outcome = simulateDrop(board, dropped[i].dropSeed)
-        expect(row).toMatchObject({ status: 'settled', bucket: outcome.bucket, ticks: outcome.ticks, state_hash: outcome.stateHash, payout: payoutFor(Number(row.bet), outcome.multiplier) })
-        expected += Number(row.payout) - Number(row.bet)
+        expect(row).toMatchObject({ status: 'settled', bucket: outcome.bucket, ticks: outcome.ticks, state_hash: outcome.stateHash, payout: payoutMilli(Number(row.bet), outcome.multiplier) })
+        expected += Number(row.payout) - Number(row.bet) * 1000
       }
       // The session survived the crash, with the recovered balance and the nonces used.
       const me = await server.api('GET', '/api/me', { token: session.token })
       expect(me.status).toBe(200)
-      expect(me.body).toMatchObject({ playerId: session.playerId, balance: expected, nonce: 3, serverSeedHash: session.serverSeedHash })
+      expect(me.body).toMatchObject({ playerId: session.playerId, balance: expected / 1000, nonce: 3, serverSeedHash: session.serverSeedHash })
       const audit = await server.api('GET', `/api/audit/drops/${dropped[0].dropId}`, { token: OPERATOR_TOKEN })
       expect(audit.body.matches).toBe(true)
       // New drops continue after the recovered ids and nonces.
@@ -117,7 +118,7 @@ describe.each(STORE_KINDS)('recovery and persistence on %s', (kind) => {
     const store = await openStore(db.database)
     try {
       await store.createPlayer({ id: 'p1', tokenHash: 'h'.repeat(64), balance: 90, clientSeed: 'c', createdAt: 1, seed: { id: 's1', seed: 'seed', hash: 'x'.repeat(64) } })
-      const row = { playerId: 'p1', room: '8-low', rows: 8, risk: 'low', serverSeedId: 's1', serverSeedHash: 'x'.repeat(64), clientSeed: 'c', dropSeed: 'abc', bet: 5, startTick: 0, createdAt: 2 }
+      const row = { playerId: 'p1', room: '8-low', rows: 8, risk: 'low', serverSeedId: 's1', serverSeedHash: 'x'.repeat(64), clientSeed: 'c', dropSeed: 'abc', bet: 5, payoutRule: 2, startTick: 0, createdAt: 2 }
       await store.commitBatch({
         drops: [{ ...row, id: 1, nonce: 0, engineVersion: '0.0.1-old' }, { ...row, id: 2, nonce: 1, engineVersion: createBoard({ rows: 8, risk: 'low' }).engineVersion }],
         settlements: [],
@@ -129,8 +130,8 @@ describe.each(STORE_KINDS)('recovery and persistence on %s', (kind) => {
       const stillInFlight = await store.listInFlightDrops()
       expect(stillInFlight.map((d) => d.id)).toEqual([1])
       const outcome = simulateDrop(createBoard({ rows: 8, risk: 'low' }), 'abc')
-      expect((await store.getDrop(2))).toMatchObject({ status: 'settled', bucket: outcome.bucket, payout: payoutFor(5, outcome.multiplier) })
-      expect((await store.loadAccount('p1')).balance).toBe(90 + payoutFor(5, outcome.multiplier))
+      expect((await store.getDrop(2))).toMatchObject({ status: 'settled', bucket: outcome.bucket, payout: payoutMilli(5, outcome.multiplier) / 1000 })
+      expect((await store.loadAccount('p1')).balance).toBe(90 + payoutMilli(5, outcome.multiplier))
     } finally {
       await store.close()
     }

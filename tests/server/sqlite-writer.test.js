@@ -26,7 +26,7 @@ afterEach(async () => {
   fs.rmSync(dir, { recursive: true, force: true })
 })
 
-const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, startTick: 0, createdAt: 2 })
+const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: 0, createdAt: 2 })
 const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, nonces: [{ seedId: 's1', nextNonce: 100 }], clientSeeds: [] })
 /** Reads the file through a connection of its own, as another process would. */
 const read = (sql) => { const db = new Database(file, { readonly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
