@@ -1,3 +1,5 @@
+import { svg, svgDocument } from '../charts/svg.js'
+
 /**
  * An SVG bar chart of a bucket distribution: measured share per bucket,
  * reference shares as markers (the calibrated share, the binomial, another
@@ -38,35 +40,35 @@ export function distributionChartSvg ({ title, counts, multipliers, expected, ma
   const tickLabel = (share) => logScale
     ? (share >= 0.99e-4 ? `${Number((share * 100).toPrecision(1))}%` : share.toExponential(0))
     : `${(share * 100).toFixed(1)}%`
-  const parts = []
-  parts.push(`<svg xmlns="http://www.w3.org/2000/svg" width="${width}" height="${height}" viewBox="0 0 ${width} ${height}" font-family="sans-serif" font-size="11">`)
-  parts.push(`<rect width="${width}" height="${height}" fill="#fff"/>`)
-  parts.push(`<text x="${width / 2}" y="20" text-anchor="middle" font-size="14">${escapeXml(title)}</text>`)
-  for (const share of ticks) {
-    parts.push(`<line x1="${left}" x2="${width - 20}" y1="${y(share).toFixed(1)}" y2="${y(share).toFixed(1)}" stroke="#eee"/>`)
-    parts.push(`<text x="${left - 6}" y="${(y(share) + 4).toFixed(1)}" text-anchor="end">${tickLabel(share)}</text>`)
-  }
-  shares.forEach((share, i) => {
-    const x = left + i * barWidth
-    parts.push(`<rect x="${(x + 2).toFixed(1)}" y="${y(share).toFixed(1)}" width="${(barWidth - 4).toFixed(1)}" height="${(bottom - y(share)).toFixed(1)}" fill="#4a7bd0"><title>bucket ${i}: ${(share * 100).toFixed(4)}% (${counts[i]})</title></rect>`)
-    for (const s of series) {
-      parts.push(`<line x1="${(x + 2).toFixed(1)}" x2="${(x + barWidth - 2).toFixed(1)}" y1="${y(s.shares[i]).toFixed(1)}" y2="${y(s.shares[i]).toFixed(1)}" stroke="${s.color}" stroke-width="2"><title>${escapeXml(s.label)}: ${(s.shares[i] * 100).toFixed(4)}%</title></line>`)
-    }
-    parts.push(`<text x="${(x + barWidth / 2).toFixed(1)}" y="${bottom + 14}" text-anchor="middle">${i}</text>`)
-    parts.push(`<text x="${(x + barWidth / 2).toFixed(1)}" y="${bottom + 30}" text-anchor="middle" fill="#555">${multipliers[i]}x</text>`)
-  })
-  let legendX = left
-  parts.push(`<text x="${legendX}" y="${height - 8}" fill="#4a7bd0">■ ${escapeXml(barLabel)}</text>`)
-  legendX += 30 + barLabel.length * 6
-  for (const s of series) {
-    parts.push(`<text x="${legendX}" y="${height - 8}" fill="${s.color}">— ${escapeXml(s.label)}</text>`)
-    legendX += 30 + s.label.length * 6
-  }
-  parts.push(`<text x="${width - 20}" y="${height - 8}" text-anchor="end" fill="#555">bucket / multiplier</text>`)
-  parts.push('</svg>')
-  return parts.join('\n') + '\n'
+  const f = (n) => n.toFixed(1)
+  const chart = svg('svg', { width, height, viewBox: `0 0 ${width} ${height}`, 'font-family': 'sans-serif', 'font-size': 11 },
+    svg('rect', { width, height, fill: '#fff' }),
+    svg('text', { x: width / 2, y: 20, 'text-anchor': 'middle', 'font-size': 14 }, title),
+    ticks.map((share) => [
+      svg('line', { x1: left, x2: width - 20, y1: f(y(share)), y2: f(y(share)), stroke: '#eee' }),
+      svg('text', { x: left - 6, y: f(y(share) + 4), 'text-anchor': 'end' }, tickLabel(share))
+    ]),
+    shares.map((share, i) => {
+      const x = left + i * barWidth
+      return [
+        svg('rect', { x: f(x + 2), y: f(y(share)), width: f(barWidth - 4), height: f(bottom - y(share)), fill: '#4a7bd0' },
+          svg('title', {}, `bucket ${i}: ${(share * 100).toFixed(4)}% (${counts[i]})`)),
+        series.map((s) => svg('line', { x1: f(x + 2), x2: f(x + barWidth - 2), y1: f(y(s.shares[i])), y2: f(y(s.shares[i])), stroke: s.color, 'stroke-width': 2 },
+          svg('title', {}, `${s.label}: ${(s.shares[i] * 100).toFixed(4)}%`))),
+        svg('text', { x: f(x + barWidth / 2), y: bottom + 14, 'text-anchor': 'middle' }, i),
+        svg('text', { x: f(x + barWidth / 2), y: bottom + 30, 'text-anchor': 'middle', fill: '#555' }, `${multipliers[i]}x`)
+      ]
+    }),
+    legend(left, height - 8, [[`■ ${barLabel}`, '#4a7bd0', barLabel], ...series.map((s) => [`— ${s.label}`, s.color, s.label])]),
+    svg('text', { x: width - 20, y: height - 8, 'text-anchor': 'end', fill: '#555' }, 'bucket / multiplier'))
+  return svgDocument(chart)
 }
 
-function escapeXml (text) {
-  return String(text).replace(/[<>&"]/g, (c) => ({ '<': '&lt;', '>': '&gt;', '&': '&amp;', '"': '&quot;' })[c])
+/** Legend entries side by side from x, each as wide as its label. @param {[string, string, string][]} entries [text, colour, label] */
+function legend (x, y, entries) {
+  return entries.map(([text, fill, label]) => {
+    const entry = svg('text', { x, y, fill }, text)
+    x += 30 + label.length * 6
+    return entry
+  })
 }

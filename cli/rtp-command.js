@@ -1,6 +1,7 @@
 import { randomBytes } from 'node:crypto'
-import { writeFileSync } from 'node:fs'
+import { statSync, writeFileSync } from 'node:fs'
 import { availableParallelism } from 'node:os'
+import path from 'node:path'
 import { createBoard } from '../engine/board.js'
 import { rtpStatistics } from '../engine/rtp-statistics.js'
 import { calibrationOf } from '../engine/calibration.js'
@@ -8,34 +9,54 @@ import { simulateBatch } from './simulate-batch.js'
 import { ProgressBar } from './progress-bar.js'
 import { distributionChartSvg } from './distribution-chart.js'
 import { symmetrize } from './table-design.js'
-import { parseOptions, integerOption, rowsOption, riskOption, engineVersionOption } from './options.js'
+import { parseOptions, integerOption, rowsOption, riskOption, engineVersionOption, SEED_AND_BOARD_OPTIONS, BOARD_OPTIONS_HELP } from './options.js'
+import { UsageError } from './usage-error.js'
 
 export const rtpUsage = 'plinko rtp [--rows 16] [--risk medium] [--engine-version V] [--drops 1000000] [--server-seed S] [--client-seed C] [--workers N] [--chart FILE.svg] [--json]'
+
+export const rtpHelp = `usage: ${rtpUsage}
+
+Simulates nonces 0..drops-1 of one seed pair on every core, prints the bucket
+distribution beside the calibrated one and the return to player with its 95%
+confidence interval.
+
+${BOARD_OPTIONS_HELP}
+  --drops N            drops to simulate, 1 to 1e9 (default 1000000)
+  --server-seed S      server seed (default: 32 random bytes, printed)
+  --client-seed C      client seed (default "rtp")
+  --workers N          worker threads, 1 to 256 (default: one per core)
+  --chart FILE.svg     also draw the distribution as an SVG chart into FILE
+                       (nothing is written without it); its folder must exist
+  --json               print one JSON object instead of the table
+  -h, --help           this help`
+
+const OPTIONS = {
+  ...SEED_AND_BOARD_OPTIONS,
+  drops: { type: 'string' },
+  workers: { type: 'string' },
+  chart: { type: 'string' },
+  json: { type: 'boolean' }
+}
 
 /**
  * Simulates many drops (nonces 0..drops-1 of one server/client seed pair),
  * prints the bucket distribution and the return to player with its 95%
- * confidence interval, and writes the distribution as an SVG chart.
+ * confidence interval, and writes the distribution as an SVG chart where
+ * --chart says (and only then).
  */
 export async function rtpCommand (argv, out, err) {
-  const options = parseOptions(argv, {
-    rows: { type: 'string' },
-    risk: { type: 'string' },
-    drops: { type: 'string' },
-    'server-seed': { type: 'string' },
-    'client-seed': { type: 'string' },
-    workers: { type: 'string' },
-    chart: { type: 'string' },
-    json: { type: 'boolean' },
-    'engine-version': { type: 'string' }
-  })
+  const options = parseOptions(argv, OPTIONS)
+  if (options.help) {
+    out.write(rtpHelp + '\n')
+    return
+  }
   const rows = rowsOption(options.rows)
   const risk = riskOption(options.risk)
   const drops = integerOption(options.drops ?? '1000000', 'drops', { min: 1, max: 1e9 })
   const workers = integerOption(options.workers ?? String(availableParallelism()), 'workers', { min: 1, max: 256 })
   const serverSeed = options['server-seed'] || randomBytes(32).toString('hex')
   const clientSeed = options['client-seed'] ?? 'rtp'
-  const chartPath = options.chart ?? `plinko-rtp-${rows}-${risk}.svg`
+  const chartPath = options.chart === undefined ? null : chartFile(options.chart)
   const engineVersion = engineVersionOption(options['engine-version'])
   const board = createBoard({ rows, risk, engineVersion })
   const calibration = calibrationOf(rows, engineVersion)
@@ -47,12 +68,14 @@ export async function rtpCommand (argv, out, err) {
   const stats = rtpStatistics(result.counts, board.multipliers)
   const calibratedCounts = calibration?.bucketCounts
   const expected = calibratedCounts ? symmetrize(calibratedCounts) : undefined
-  writeFileSync(chartPath, distributionChartSvg({
-    title: `Plinko ${rows} rows, ${risk} risk: ${drops} drops, RTP ${(stats.rtp * 100).toFixed(3)}%`,
-    counts: result.counts,
-    multipliers: board.multipliers,
-    expected
-  }))
+  if (chartPath) {
+    writeFileSync(chartPath, distributionChartSvg({
+      title: `Plinko ${rows} rows, ${risk} risk: ${drops} drops, RTP ${(stats.rtp * 100).toFixed(3)}%`,
+      counts: result.counts,
+      multipliers: board.multipliers,
+      expected
+    }))
+  }
 
   const summary = {
     engineVersion,
@@ -90,6 +113,20 @@ export async function rtpCommand (argv, out, err) {
   lines.push(`RTP ${percent(stats.rtp)} (95% CI ${percent(stats.ci95[0])} – ${percent(stats.ci95[1])}, standard error ${percent(stats.standardError)})`)
   if (summary.calibratedRtp !== undefined) lines.push(`calibrated RTP ${percent(summary.calibratedRtp)} on ${calibration.drops} calibration drops`)
   lines.push(`${result.seconds.toFixed(1)} s on ${workers} worker(s): ${Math.round(summary.dropsPerSecond)} drops/s, mean ${result.meanTicks.toFixed(1)} ticks (${(result.meanTicks / 60).toFixed(2)} s) per drop, longest ${result.maxTicks}`)
-  lines.push(`chart written to ${chartPath}`)
+  lines.push(chartPath ? `chart written to ${chartPath}` : 'no chart written (--chart FILE.svg draws one)')
   out.write(lines.join('\n') + '\n')
+}
+
+/**
+ * --chart FILE: an absolute path, checked before the simulation (which may
+ * take minutes) so a typo fails at once: its folder must exist, and FILE
+ * must not be a folder.
+ * @param {string} file @returns {string}
+ */
+function chartFile (file) {
+  const resolved = path.resolve(file)
+  const folder = statSync(path.dirname(resolved), { throwIfNoEntry: false })
+  if (!folder?.isDirectory()) throw new UsageError(`--chart ${file}: the folder ${path.dirname(resolved)} does not exist`)
+  if (statSync(resolved, { throwIfNoEntry: false })?.isDirectory()) throw new UsageError(`--chart ${file} is a folder: give a file name, e.g. ${path.join(file, 'rtp.svg')}`)
+  return resolved
 }

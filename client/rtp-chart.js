@@ -1,21 +1,23 @@
 /**
- * The operator's charts, drawn as SVG with DOM calls (no markup strings):
- * a room's bucket distribution against the calibrated one, and its
- * measured RTP over time against the calibrated RTP.
+ * The operator's charts: a room's bucket distribution against the
+ * calibrated one, and its measured RTP over time against the calibrated
+ * RTP. Built with the project's one SVG writer (charts/svg.js, served at
+ * /charts/) and handed to the page as DOM nodes (no markup strings).
  */
+import { svg, svgElement } from '/charts/svg.js'
 
-const SVG = 'http://www.w3.org/2000/svg'
 const COLORS = { measured: '#ff5a8a', calibrated: '#ffc400', band: 'rgba(255, 90, 138, 0.18)', axis: '#46518a', text: '#98a3cf' }
 
-function svg (tag, attributes = {}, ...children) {
-  const node = document.createElementNS(SVG, tag)
-  for (const [name, value] of Object.entries(attributes)) node.setAttribute(name, String(value))
-  for (const child of children) if (child) node.append(child)
-  return node
+function text (x, y, content, attributes = {}) {
+  return svg('text', { x, y, fill: COLORS.text, 'font-size': 11, 'font-family': 'system-ui, sans-serif', ...attributes }, content)
 }
 
-function text (x, y, content, attributes = {}) {
-  return svg('text', { x, y, fill: COLORS.text, 'font-size': 11, 'font-family': 'system-ui, sans-serif', ...attributes }, document.createTextNode(content))
+/** A horizontal line across the plot at y, labelled at its left end. */
+function gridLine (left, right, y, label) {
+  return [
+    svg('line', { x1: left, x2: right, y1: y, y2: y, stroke: COLORS.axis, 'stroke-width': 1 }),
+    text(left - 4, y + 4, label, { 'text-anchor': 'end' })
+  ]
 }
 
 /**
@@ -38,20 +40,18 @@ export function bucketChart (counts, calibrated) {
   const plotH = height - pad.top - pad.bottom
   const band = plotW / counts.length
   const y = (share) => pad.top + plotH * (1 - share / top)
-  const root = svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'bucket distribution, measured against calibrated' })
-  for (const share of [0, top / 2, top]) {
-    root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(share), y2: y(share), stroke: COLORS.axis, 'stroke-width': 1 }))
-    root.append(text(pad.left - 4, y(share) + 4, `${(share * 100).toFixed(1)}%`, { 'text-anchor': 'end' }))
-  }
-  counts.forEach((count, i) => {
-    const x = pad.left + i * band
-    const barTop = y(measuredShare[i])
-    root.append(svg('rect', { x: x + band * 0.15, y: barTop, width: band * 0.7, height: pad.top + plotH - barTop, fill: COLORS.measured, rx: 2 },
-      svg('title', {}, document.createTextNode(`bucket ${i}: ${count} drops (${(measuredShare[i] * 100).toFixed(2)}%), calibrated ${(expectedShare[i] * 100).toFixed(2)}%`))))
-    root.append(svg('line', { x1: x + band * 0.08, x2: x + band * 0.92, y1: y(expectedShare[i]), y2: y(expectedShare[i]), stroke: COLORS.calibrated, 'stroke-width': 2.5 }))
-    root.append(text(x + band / 2, height - 8, String(i), { 'text-anchor': 'middle' }))
-  })
-  return root
+  return svgElement(svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'bucket distribution, measured against calibrated' },
+    [0, top / 2, top].map((share) => gridLine(pad.left, width - pad.right, y(share), `${(share * 100).toFixed(1)}%`)),
+    counts.map((count, i) => {
+      const x = pad.left + i * band
+      const barTop = y(measuredShare[i])
+      return [
+        svg('rect', { x: x + band * 0.15, y: barTop, width: band * 0.7, height: pad.top + plotH - barTop, fill: COLORS.measured, rx: 2 },
+          svg('title', {}, `bucket ${i}: ${count} drops (${(measuredShare[i] * 100).toFixed(2)}%), calibrated ${(expectedShare[i] * 100).toFixed(2)}%`)),
+        svg('line', { x1: x + band * 0.08, x2: x + band * 0.92, y1: y(expectedShare[i]), y2: y(expectedShare[i]), stroke: COLORS.calibrated, 'stroke-width': 2.5 }),
+        text(x + band / 2, height - 8, String(i), { 'text-anchor': 'middle' })
+      ]
+    })))
 }
 
 /**
@@ -78,23 +78,19 @@ export function rtpChart (samples, calibrated) {
   const maxDrops = Math.max(1, ...points.map((s) => s.drops))
   const x = (drops) => pad.left + plotW * (drops / maxDrops)
   const y = (value) => pad.top + plotH * (1 - (value - min) / (max - min))
-  const root = svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'measured RTP against calibrated RTP' })
-  for (const value of [min, (min + max) / 2, max]) {
-    root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(value), y2: y(value), stroke: COLORS.axis, 'stroke-width': 1 }))
-    root.append(text(pad.left - 4, y(value) + 4, `${(value * 100).toFixed(1)}%`, { 'text-anchor': 'end' }))
-  }
-  root.append(text(width - pad.right, height - 8, `${maxDrops} settled drops`, { 'text-anchor': 'end' }))
-  if (points.length > 0) {
-    const upper = points.filter((s) => Number.isFinite(s.high)).map((s) => `${x(s.drops)},${y(s.high)}`)
-    const lower = points.filter((s) => Number.isFinite(s.low)).map((s) => `${x(s.drops)},${y(s.low)}`).reverse()
-    if (upper.length > 1) root.append(svg('polygon', { points: [...upper, ...lower].join(' '), fill: COLORS.band }))
-    root.append(svg('polyline', { points: points.map((s) => `${x(s.drops)},${y(s.rtp)}`).join(' '), fill: 'none', stroke: COLORS.measured, 'stroke-width': 2 }))
-    const last = points[points.length - 1]
-    root.append(svg('circle', { cx: x(last.drops), cy: y(last.rtp), r: 3.5, fill: COLORS.measured }))
-  }
-  root.append(svg('line', { x1: pad.left, x2: width - pad.right, y1: y(calibrated), y2: y(calibrated), stroke: COLORS.calibrated, 'stroke-width': 2, 'stroke-dasharray': '6 4' }))
-  root.append(text(pad.left + 4, y(calibrated) - 5, `calibrated ${(calibrated * 100).toFixed(2)}%`, { fill: COLORS.calibrated }))
-  return root
+  const upper = points.filter((s) => Number.isFinite(s.high)).map((s) => `${x(s.drops)},${y(s.high)}`)
+  const lower = points.filter((s) => Number.isFinite(s.low)).map((s) => `${x(s.drops)},${y(s.low)}`).reverse()
+  const last = points[points.length - 1]
+  return svgElement(svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'measured RTP against calibrated RTP' },
+    [min, (min + max) / 2, max].map((value) => gridLine(pad.left, width - pad.right, y(value), `${(value * 100).toFixed(1)}%`)),
+    text(width - pad.right, height - 8, `${maxDrops} settled drops`, { 'text-anchor': 'end' }),
+    points.length > 0 && [
+      upper.length > 1 && svg('polygon', { points: [...upper, ...lower].join(' '), fill: COLORS.band }),
+      svg('polyline', { points: points.map((s) => `${x(s.drops)},${y(s.rtp)}`).join(' '), fill: 'none', stroke: COLORS.measured, 'stroke-width': 2 }),
+      svg('circle', { cx: x(last.drops), cy: y(last.rtp), r: 3.5, fill: COLORS.measured })
+    ],
+    svg('line', { x1: pad.left, x2: width - pad.right, y1: y(calibrated), y2: y(calibrated), stroke: COLORS.calibrated, 'stroke-width': 2, 'stroke-dasharray': '6 4' }),
+    text(pad.left + 4, y(calibrated) - 5, `calibrated ${(calibrated * 100).toFixed(2)}%`, { fill: COLORS.calibrated })))
 }
 
 /** A legend row: [label, colour] pairs. @param {[string, string][]} items */

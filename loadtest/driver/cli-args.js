@@ -1,6 +1,11 @@
 /**
- * Arguments of `npm run loadtest -- …` (loadtest/run.js).
+ * Arguments of `npm run loadtest -- …` (loadtest/run.js), read with
+ * node:util parseArgs like the `plinko` CLI's (cli/command-line.js).
  */
+import { parseCommandLine } from '../../cli/command-line.js'
+import { UsageError } from '../../cli/usage-error.js'
+
+export { UsageError }
 
 export const SCENARIOS = ['players', 'spike', 'soak']
 
@@ -26,21 +31,44 @@ export const USAGE = `usage: npm run loadtest -- [options]
 
 TARGET_URL=http://127.0.0.1:PORT runs against a server already running there
 (loopback only) instead of starting one; --profile, --pin and --env then do not apply.
-Times: 90s, 1500ms, 10m, 1h. Exit code: 0 when every k6 threshold passed.`
+Times: 90s, 1500ms, 10m, 1h. An option given twice keeps its last value.
+Exit code: 0 when every k6 threshold passed, 2 for a bad command line.`
 
 /**
  * @param {string | undefined} value
+ * @param {string} [name] the option it was given to, for the message
  * @returns {number} seconds
  */
-export function parseDuration (value) {
+export function parseDuration (value, name) {
   const match = /^(\d+(?:\.\d+)?)(ms|s|m|h)?$/.exec(String(value ?? '').trim())
-  if (!match) throw new UsageError(`not a duration: ${value} (use 90s, 1500ms, 10m, 1h)`)
+  if (!match) throw new UsageError(`not a duration: ${value}${name ? ` for --${name}` : ''} (use 90s, 1500ms, 10m, 1h)`)
   return Number(match[1]) * { ms: 0.001, s: 1, m: 60, h: 3600 }[match[2] ?? 's']
 }
 
-export class UsageError extends Error {}
+/** The options, as node:util parseArgs reads them (cli/command-line.js adds the project's errors). */
+const OPTIONS = {
+  help: { type: 'boolean', short: 'h' },
+  scenario: { type: 'string', default: 'players' },
+  vus: { type: 'string' },
+  duration: { type: 'string' },
+  rooms: { type: 'string' },
+  'drop-interval': { type: 'string' },
+  ramp: { type: 'string' },
+  leave: { type: 'string' },
+  drain: { type: 'string' },
+  bet: { type: 'string' },
+  'snapshot-hz': { type: 'string' },
+  env: { type: 'string', multiple: true, default: [] },
+  e: { type: 'string', multiple: true, default: [] },
+  profile: { type: 'boolean', default: false },
+  pin: { type: 'boolean', default: false },
+  'sample-interval': { type: 'string' },
+  out: { type: 'string' }
+}
 
 /**
+ * An option given twice takes its last value (`npm run loadtest:smoke --
+ * --vus 100` overrides the script's own `--vus 50`); --env and -e add up.
  * @param {string[]} argv
  * @returns {{ help: boolean, scenario: string, vus: number, rooms: number, durationS?: number,
  *   dropIntervalS: number, rampS?: number, leaveS?: number, drainS?: number, bet?: number,
@@ -48,43 +76,37 @@ export class UsageError extends Error {}
  *   profile: boolean, pin: boolean, sampleIntervalS: number, out?: string }}
  */
 export function parseArgs (argv) {
-  const options = { help: false, scenario: 'players', vus: 50, rooms: 10, dropIntervalS: 2, serverEnv: {}, k6Env: {}, profile: false, pin: false, sampleIntervalS: 1 }
-  for (let i = 0; i < argv.length; i++) {
-    const arg = argv[i]
-    const [flag, inline] = arg.startsWith('--') && arg.includes('=') ? [arg.slice(0, arg.indexOf('=')), arg.slice(arg.indexOf('=') + 1)] : [arg, undefined]
-    const value = () => {
-      if (inline !== undefined) return inline
-      if (i + 1 >= argv.length) throw new UsageError(`${flag} needs a value`)
-      return argv[++i]
-    }
-    switch (flag) {
-      case '-h': case '--help': options.help = true; break
-      case '--scenario': options.scenario = value(); break
-      case '--vus': options.vus = positiveInteger(flag, value()); break
-      case '--rooms': options.rooms = positiveInteger(flag, value()); break
-      case '--duration': options.durationS = parseDuration(value()); break
-      case '--drop-interval': options.dropIntervalS = parseDuration(value()); break
-      case '--ramp': options.rampS = parseDuration(value()); break
-      case '--leave': options.leaveS = parseDuration(value()); break
-      case '--drain': options.drainS = parseDuration(value()); break
-      case '--bet': options.bet = positiveInteger(flag, value()); break
-      case '--snapshot-hz': options.snapshotHz = positiveInteger(flag, value()); break
-      case '--env': Object.assign(options.serverEnv, keyValue(flag, value())); break
-      case '-e': Object.assign(options.k6Env, keyValue(flag, value())); break
-      case '--profile': options.profile = true; break
-      case '--pin': options.pin = true; break
-      case '--sample-interval': options.sampleIntervalS = parseDuration(value()); break
-      case '--out': options.out = value(); break
-      default: throw new UsageError(`unknown argument ${arg}`)
-    }
+  const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
+  if (values.help) return { ...parseArgs([]), help: true }
+  const optional = (name, parse) => values[name] === undefined ? undefined : parse(values[name], name)
+  const options = {
+    help: false,
+    scenario: values.scenario,
+    vus: optional('vus', positiveInteger) ?? 50,
+    rooms: optional('rooms', positiveInteger) ?? 10,
+    durationS: optional('duration', parseDuration),
+    dropIntervalS: optional('drop-interval', parseDuration) ?? 2,
+    rampS: optional('ramp', parseDuration),
+    leaveS: optional('leave', parseDuration),
+    drainS: optional('drain', parseDuration),
+    bet: optional('bet', positiveInteger),
+    snapshotHz: optional('snapshot-hz', positiveInteger),
+    serverEnv: Object.assign({}, ...values.env.map((pair) => keyValue('--env', pair))),
+    k6Env: Object.assign({}, ...values.e.map((pair) => keyValue('-e', pair))),
+    profile: values.profile,
+    pin: values.pin,
+    sampleIntervalS: optional('sample-interval', parseDuration) ?? 1,
+    out: values.out
   }
+  for (const [key, value] of Object.entries(options)) if (value === undefined) delete options[key]
   if (!SCENARIOS.includes(options.scenario)) throw new UsageError(`--scenario must be one of ${SCENARIOS.join(', ')}`)
   if (options.durationS !== undefined && options.durationS <= 0) throw new UsageError('--duration must be positive')
   if (options.sampleIntervalS < 0.1) throw new UsageError('--sample-interval must be at least 100ms')
   return options
 }
 
-function positiveInteger (flag, raw) {
+function positiveInteger (raw, name) {
+  const flag = `--${name}`
   const value = Number(raw)
   if (!Number.isInteger(value) || value < 1) throw new UsageError(`${flag} must be a positive integer, got ${raw}`)
   return value

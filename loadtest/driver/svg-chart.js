@@ -1,7 +1,9 @@
 /**
  * A self-contained SVG of a run's time series: stacked panels sharing the
- * time axis, the steady window shaded. No dependencies, no scripts.
+ * time axis, the steady window shaded. No scripts; written with the
+ * project's one SVG writer (charts/svg.js).
  */
+import { svg, svgDocument } from '../../charts/svg.js'
 
 const WIDTH = 960
 const PANEL_HEIGHT = 150
@@ -21,55 +23,60 @@ export function renderChart ({ title, points, panels, window }) {
   const plotWidth = WIDTH - MARGIN.left - MARGIN.right
   const tMax = Math.max(1, ...points.map((p) => p.t))
   const x = (t) => MARGIN.left + (t / tMax) * plotWidth
-  const out = [
-    `<svg xmlns="http://www.w3.org/2000/svg" width="${WIDTH}" height="${height}" viewBox="0 0 ${WIDTH} ${height}" font-family="sans-serif" font-size="11">`,
-    `<rect width="${WIDTH}" height="${height}" fill="#fff"/>`,
-    `<text x="${MARGIN.left}" y="22" font-size="14" font-weight="bold">${escape(title)}</text>`
-  ]
-  panels.forEach((panel, index) => {
-    const top = MARGIN.top + index * (PANEL_HEIGHT + MARGIN.gap)
-    const values = panel.lines.flatMap((line) => points.map((p) => p[line.key])).filter((v) => v !== null && v !== undefined && Number.isFinite(v))
-    const yMax = niceCeiling(Math.max(1e-9, ...values, panel.goal ? panel.goal.value * 1.2 : 0))
-    const y = (v) => top + PANEL_HEIGHT - (Math.min(v, yMax) / yMax) * PANEL_HEIGHT
-    if (window) out.push(`<rect x="${x(window.from).toFixed(1)}" y="${top}" width="${(x(window.to) - x(window.from)).toFixed(1)}" height="${PANEL_HEIGHT}" fill="#f2f2f2"/>`)
-    for (let i = 0; i <= 5; i++) {
-      const v = (yMax * i) / 5
-      out.push(`<line x1="${MARGIN.left}" x2="${MARGIN.left + plotWidth}" y1="${y(v).toFixed(1)}" y2="${y(v).toFixed(1)}" stroke="#ddd"/>`)
-      out.push(`<text x="${MARGIN.left - 6}" y="${(y(v) + 4).toFixed(1)}" text-anchor="end" fill="#555">${formatTick(v)}</text>`)
-    }
-    out.push(`<text x="${MARGIN.left}" y="${top - 8}" font-weight="bold">${escape(panel.title)} <tspan font-weight="normal" fill="#555">(${escape(panel.unit)})</tspan></text>`)
-    if (panel.goal) {
-      out.push(`<line x1="${MARGIN.left}" x2="${MARGIN.left + plotWidth}" y1="${y(panel.goal.value).toFixed(1)}" y2="${y(panel.goal.value).toFixed(1)}" stroke="#000" stroke-dasharray="5,4"/>`)
-      out.push(`<text x="${MARGIN.left + plotWidth + 8}" y="${(y(panel.goal.value) + 4).toFixed(1)}">${escape(panel.goal.label)}</text>`)
-    }
-    panel.lines.forEach((line, lineIndex) => {
-      const color = COLORS[lineIndex % COLORS.length]
-      const segments = []
-      let current = []
-      for (const p of points) {
-        const v = p[line.key]
-        if (v === null || v === undefined || !Number.isFinite(v)) {
-          if (current.length) segments.push(current)
-          current = []
-          continue
-        }
-        current.push(`${x(p.t).toFixed(1)},${y(v).toFixed(1)}`)
-      }
-      if (current.length) segments.push(current)
-      for (const segment of segments) out.push(`<polyline fill="none" stroke="${color}" stroke-width="1.5" points="${segment.join(' ')}"/>`)
-      out.push(`<rect x="${MARGIN.left + plotWidth + 8}" y="${top + 8 + lineIndex * 16}" width="10" height="3" fill="${color}"/>`)
-      out.push(`<text x="${MARGIN.left + plotWidth + 22}" y="${top + 13 + lineIndex * 16}">${escape(line.label)}</text>`)
-    })
-    out.push(`<rect x="${MARGIN.left}" y="${top}" width="${plotWidth}" height="${PANEL_HEIGHT}" fill="none" stroke="#999"/>`)
-  })
+  const f = (n) => n.toFixed(1)
   const bottom = height - MARGIN.bottom
-  for (let i = 0; i <= 10; i++) {
-    const t = (tMax * i) / 10
-    out.push(`<text x="${x(t).toFixed(1)}" y="${bottom + 14}" text-anchor="middle" fill="#555">${Math.round(t)}</text>`)
+  const chart = svg('svg', { width: WIDTH, height, viewBox: `0 0 ${WIDTH} ${height}`, 'font-family': 'sans-serif', 'font-size': 11 },
+    svg('rect', { width: WIDTH, height, fill: '#fff' }),
+    svg('text', { x: MARGIN.left, y: 22, 'font-size': 14, 'font-weight': 'bold' }, title),
+    panels.map((panel, index) => {
+      const top = MARGIN.top + index * (PANEL_HEIGHT + MARGIN.gap)
+      const values = panel.lines.flatMap((line) => points.map((p) => p[line.key])).filter(isValue)
+      const yMax = niceCeiling(Math.max(1e-9, ...values, panel.goal ? panel.goal.value * 1.2 : 0))
+      const y = (v) => top + PANEL_HEIGHT - (Math.min(v, yMax) / yMax) * PANEL_HEIGHT
+      return [
+        window && svg('rect', { x: f(x(window.from)), y: top, width: f(x(window.to) - x(window.from)), height: PANEL_HEIGHT, fill: '#f2f2f2' }),
+        Array.from({ length: 6 }, (_, i) => (yMax * i) / 5).map((v) => [
+          svg('line', { x1: MARGIN.left, x2: MARGIN.left + plotWidth, y1: f(y(v)), y2: f(y(v)), stroke: '#ddd' }),
+          svg('text', { x: MARGIN.left - 6, y: f(y(v) + 4), 'text-anchor': 'end', fill: '#555' }, formatTick(v))
+        ]),
+        svg('text', { x: MARGIN.left, y: top - 8, 'font-weight': 'bold' }, `${panel.title} `, svg('tspan', { 'font-weight': 'normal', fill: '#555' }, `(${panel.unit})`)),
+        panel.goal && [
+          svg('line', { x1: MARGIN.left, x2: MARGIN.left + plotWidth, y1: f(y(panel.goal.value)), y2: f(y(panel.goal.value)), stroke: '#000', 'stroke-dasharray': '5,4' }),
+          svg('text', { x: MARGIN.left + plotWidth + 8, y: f(y(panel.goal.value) + 4) }, panel.goal.label)
+        ],
+        panel.lines.map((line, lineIndex) => {
+          const color = COLORS[lineIndex % COLORS.length]
+          return [
+            segments(points, line.key).map((segment) => svg('polyline', { fill: 'none', stroke: color, 'stroke-width': 1.5, points: segment.map((p) => `${f(x(p.t))},${f(y(p[line.key]))}`).join(' ') })),
+            svg('rect', { x: MARGIN.left + plotWidth + 8, y: top + 8 + lineIndex * 16, width: 10, height: 3, fill: color }),
+            svg('text', { x: MARGIN.left + plotWidth + 22, y: top + 13 + lineIndex * 16 }, line.label)
+          ]
+        }),
+        svg('rect', { x: MARGIN.left, y: top, width: plotWidth, height: PANEL_HEIGHT, fill: 'none', stroke: '#999' })
+      ]
+    }),
+    Array.from({ length: 11 }, (_, i) => (tMax * i) / 10).map((t) =>
+      svg('text', { x: f(x(t)), y: bottom + 14, 'text-anchor': 'middle', fill: '#555' }, Math.round(t))),
+    svg('text', { x: MARGIN.left + plotWidth / 2, y: bottom + 30, 'text-anchor': 'middle' }, `seconds${window ? ' (grey: steady window)' : ''}`))
+  return svgDocument(chart)
+}
+
+const isValue = (v) => v !== null && v !== undefined && Number.isFinite(v)
+
+/** The runs of points where `key` has a value: a gap in the samples is a gap in the line. */
+function segments (points, key) {
+  const runs = []
+  let current = []
+  for (const p of points) {
+    if (isValue(p[key])) {
+      current.push(p)
+    } else if (current.length) {
+      runs.push(current)
+      current = []
+    }
   }
-  out.push(`<text x="${MARGIN.left + plotWidth / 2}" y="${bottom + 30}" text-anchor="middle">seconds${window ? ' (grey: steady window)' : ''}</text>`)
-  out.push('</svg>')
-  return out.join('\n') + '\n'
+  if (current.length) runs.push(current)
+  return runs
 }
 
 function niceCeiling (value) {
@@ -82,8 +89,4 @@ function formatTick (v) {
   if (v === 0) return '0'
   if (v >= 1000) return `${+(v / 1000).toFixed(1)}k`
   return String(+v.toPrecision(3))
-}
-
-function escape (text) {
-  return String(text).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' })[c])
 }

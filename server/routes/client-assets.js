@@ -4,10 +4,11 @@ import path from 'node:path'
 import { createRequire } from 'node:module'
 import { fileURLToPath } from 'node:url'
 
-/** Folders the browser runs as they are in the repository, by URL prefix: the engine and the wire format. */
+/** Folders the browser runs as they are in the repository, by URL prefix: the engine, the wire format and the SVG chart writer. */
 const SHARED_DIRS = {
   engine: fileURLToPath(new URL('../../engine/', import.meta.url)),
-  protocol: fileURLToPath(new URL('../../protocol/', import.meta.url))
+  protocol: fileURLToPath(new URL('../../protocol/', import.meta.url)),
+  charts: fileURLToPath(new URL('../../charts/', import.meta.url))
 }
 const require = createRequire(import.meta.url)
 
@@ -16,6 +17,7 @@ const require = createRequire(import.meta.url)
  * wire format as the server, with no build step:
  *   GET /engine/PATH.js        the repository's engine/ files (and engine/versions/), as they are
  *   GET /protocol/PATH.js      the repository's protocol/ files (frames, room ids, message schemas)
+ *   GET /charts/PATH.js        the repository's charts/ files (the SVG writer the operator page's charts share with the CLI)
  *   GET /vendor/seedrandom.js  seedrandom as an ES module
  * The pages map the engine's one bare import, 'seedrandom', to
  * /vendor/seedrandom.js with an inline import map (see inlineScriptHashes

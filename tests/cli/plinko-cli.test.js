@@ -1,7 +1,7 @@
 import { describe, it, expect } from 'vitest'
 import { execFile } from 'node:child_process'
 import { createHash, createHmac } from 'node:crypto'
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs'
+import { mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { fileURLToPath } from 'node:url'
@@ -11,8 +11,12 @@ import { ledgerFixture, fixtureDrops } from '../helpers/ledger-fixture.js'
 const PLINKO = fileURLToPath(new URL('../../bin/plinko.js', import.meta.url))
 
 function plinko (...args) {
+  return plinkoIn(undefined, ...args)
+}
+
+function plinkoIn (cwd, ...args) {
   return new Promise((resolve) => {
-    execFile(process.execPath, [PLINKO, ...args], { timeout: 120_000 }, (error, stdout, stderr) => {
+    execFile(process.execPath, [PLINKO, ...args], { timeout: 120_000, cwd }, (error, stdout, stderr) => {
       resolve({ code: error ? error.code : 0, stdout, stderr })
     })
   })
@@ -53,9 +57,15 @@ describe('plinko CLI', () => {
       expect(svg).toMatch(/^<svg/)
       expect(svg.match(/<rect /g).length).toBeGreaterThanOrEqual(10)
 
-      const text = await plinko('rtp', '--rows', '8', '--drops', '500', '--chart', join(dir, 'b.svg'))
+      expect(summary.chart).toBe(chart)
+
+      // A relative --chart is written there and reported as an absolute path.
+      mkdirSync(join(dir, 'out'))
+      const text = await plinkoIn(dir, 'rtp', '--rows', '8', '--drops', '500', '--chart', join('out', 'b.svg'))
       expect(text.code).toBe(0)
       expect(text.stdout).toMatch(/RTP \d+\.\d+% \(95% CI/)
+      expect(text.stdout).toContain(`chart written to ${join(dir, 'out', 'b.svg')}\n`)
+      expect(readFileSync(join(dir, 'out', 'b.svg'), 'utf8')).toMatch(/^<svg/)
       expect(text.stderr).toMatch(/100%/) // progress reached the end
     } finally {
       rmSync(dir, { recursive: true, force: true })
@@ -106,6 +116,66 @@ describe('plinko CLI', () => {
     }
   })
 
+  it('rtp writes no chart unless --chart says where, and says so', async () => {
+    const dir = mkdtempSync(join(tmpdir(), 'plinko-rtp-'))
+    try {
+      const text = await plinkoIn(dir, 'rtp', '--rows', '8', '--drops', '200', '--workers', '1')
+      expect(text.code).toBe(0)
+      expect(text.stdout).toContain('no chart written (--chart FILE.svg draws one)')
+      const json = await plinkoIn(dir, 'rtp', '--rows', '8', '--drops', '200', '--workers', '1', '--json')
+      expect(JSON.parse(json.stdout).chart).toBe(null)
+      expect(readdirSync(dir)).toEqual([])
+      // A --chart whose folder is missing, or that is a folder, fails before simulating.
+      for (const [chart, reason] of [[join(dir, 'missing', 'c.svg'), /the folder .*missing does not exist/], [dir, /is a folder: give a file name/]]) {
+        const bad = await plinkoIn(dir, 'rtp', '--drops', '1000000000', '--chart', chart)
+        expect(bad.code).toBe(2)
+        expect(bad.stderr).toMatch(reason)
+        expect(bad.stderr).not.toMatch(/simulating/)
+      }
+      expect(readdirSync(dir)).toEqual([])
+    } finally {
+      rmSync(dir, { recursive: true, force: true })
+    }
+  })
+
+  it('prints each command\'s own usage and options for --help, -h and `plinko help COMMAND`, exit 0', async () => {
+    for (const [command, options] of [['verify', ['--server-seed', '--client-seed', '--nonce', '--rows', '--risk', '--engine-version']], ['rtp', ['--drops', '--workers', '--chart', '--json', '--engine-version']], ['bench', ['--quick']]]) {
+      const outputs = []
+      for (const args of [[command, '--help'], [command, '-h'], ['help', command], [command, '--rows', '99', '--help']]) {
+        const { code, stdout, stderr } = await plinko(...args)
+        expect(code, args.join(' ')).toBe(0)
+        expect(stderr).toBe('')
+        outputs.push(stdout)
+      }
+      expect(new Set(outputs).size).toBe(1)
+      expect(outputs[0]).toMatch(new RegExp(`^usage: plinko ${command} `))
+      for (const option of options) expect(outputs[0]).toContain(`  ${option} `)
+      for (const other of ['verify', 'rtp', 'bench'].filter((c) => c !== command)) expect(outputs[0]).not.toContain(`plinko ${other}`)
+    }
+    const all = await plinko('--help')
+    expect(all.code).toBe(0)
+    expect(all.stdout).toMatch(/plinko verify[\s\S]*plinko rtp[\s\S]*plinko bench/)
+  })
+
+  it('names the problem in its own words: a negative nonce, a missing value, a repeated option', async () => {
+    const seeds = ['--server-seed', 's', '--client-seed', 'c']
+    for (const [args, message] of [
+      [['verify', ...seeds, '--nonce', '-1'], 'plinko verify: --nonce must be a whole number from 0 to 9007199254740991, got "-1"'],
+      [['verify', ...seeds, '--nonce=-1'], 'plinko verify: --nonce must be a whole number from 0 to 9007199254740991, got "-1"'],
+      [['verify', '--server-seed', '--client-seed', 'c', '--nonce', '1'], 'plinko verify: --server-seed needs a value'],
+      [['verify', ...seeds, '--nonce'], 'plinko verify: --nonce needs a value'],
+      [['verify', ...seeds, '--nonce', '1', '--nonce', '2'], 'plinko verify: --nonce given twice: give it once'],
+      [['rtp', '--json', '--json'], 'plinko rtp: --json given twice: give it once'],
+      [['rtp', '--rows', '8', 'extra'], 'plinko rtp: unexpected argument "extra"']
+    ]) {
+      const { code, stderr } = await plinko(...args)
+      expect(code, args.join(' ')).toBe(2)
+      expect(stderr.split('\n')[0]).toBe(message)
+      expect(stderr).not.toMatch(/ambiguous/)
+      expect(stderr).toContain(`usage: plinko ${args[0]} `)
+    }
+  })
+
   it('rejects bad arguments with a clear message and exit code 2', async () => {
     for (const args of [
       [],
@@ -117,7 +187,8 @@ describe('plinko CLI', () => {
       ['verify', '--server-seed', 's', '--client-seed', 'c', '--nonce', '1', '--engine-version', '0.9.0'],
       ['rtp', '--drops', '10', '--engine-version', 'latest'],
       ['rtp', '--drops', '0'],
-      ['rtp', '--unknown']
+      ['rtp', '--unknown'],
+      ['help', 'frobnicate']
     ]) {
       const { code, stderr } = await plinko(...args)
       expect(code, args.join(' ')).toBe(2)

@@ -24,7 +24,26 @@ describe('loadtest command line', () => {
     expect(() => parseArgs(['--scenario', 'flood'])).toThrow(/players, spike, soak/)
     expect(() => parseArgs(['--duration', 'soon'])).toThrow(/not a duration/)
     expect(() => parseArgs(['--env', 'no-equals'])).toThrow(/KEY=VALUE/)
-    expect(() => parseArgs(['--frobnicate'])).toThrow(/unknown argument/)
+    expect(() => parseArgs(['--frobnicate'])).toThrow(/unknown option --frobnicate/)
+    expect(() => parseArgs(['spike'])).toThrow(/unexpected argument "spike"/)
+    expect(() => parseArgs(['--vus', '--pin'])).toThrow(/--vus needs a value/)
+    expect(() => parseArgs(['--pin=yes'])).toThrow(/--pin takes no value/)
+    expect(() => parseArgs(['--e', 'A=1'])).toThrow(/unknown option --e/)
+    expect(() => parseArgs(['--drain', '-5s'])).toThrow(/not a duration: -5s for --drain/)
+  })
+
+  it('is node:util parseArgs underneath: inline values, repeatable -e and --env, the last of a repeated option wins', () => {
+    const options = parseArgs(['--vus=10', '-eA=1', '-e', 'B=2', '--env', 'X=1', '--env=Y=2=3', '--vus', '20', '--duration=90s', '--duration', '2m'])
+    expect(options).toMatchObject({ vus: 20, durationS: 120, k6Env: { A: '1', B: '2' }, serverEnv: { X: '1', Y: '2=3' } })
+    for (const error of [() => parseArgs(['--vus', '0']), () => parseArgs(['--frobnicate'])]) {
+      expect(error).toThrow(UsageError)
+    }
+  })
+
+  it('answers --help whatever else the line holds', () => {
+    expect(parseArgs(['--help']).help).toBe(true)
+    expect(parseArgs(['--vus', '0', '-h', '--frobnicate'])).toMatchObject({ help: true, scenario: 'players', vus: 50 })
+    expect(parseArgs([]).help).toBe(false)
   })
 
   it('parses durations', () => {

@@ -1,8 +1,8 @@
 /**
  * How the browser gets the engine and the wire format (no browser needed):
- * the pages, the repository's engine/ files at /engine/ and protocol/ files
- * at /protocol/, byte for byte the server's own, seedrandom as an ES module at
- * /vendor/seedrandom.js, and a Content-Security-Policy that admits the
+ * the pages, the repository's engine/ files at /engine/, protocol/ files at
+ * /protocol/ and charts/ files at /charts/, byte for byte the server's own,
+ * seedrandom as an ES module at /vendor/seedrandom.js, and a Content-Security-Policy that admits the
  * pages' inline import maps by hash and no other inline script.
  */
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
@@ -14,6 +14,7 @@ import { startArenaServer, CLIENT_DIR } from '../e2e/helpers/arena-server.js'
 
 const ENGINE_DIR = fileURLToPath(new URL('../../engine/', import.meta.url))
 const PROTOCOL_DIR = fileURLToPath(new URL('../../protocol/', import.meta.url))
+const CHARTS_DIR = fileURLToPath(new URL('../../charts/', import.meta.url))
 
 let server
 
@@ -49,19 +50,24 @@ describe('client assets', () => {
     }
   })
 
-  it('serves every protocol file unchanged at /protocol/, and nothing else from there', async () => {
-    const names = readdirSync(PROTOCOL_DIR).filter((n) => n.endsWith('.js'))
-    expect(names).toEqual(expect.arrayContaining(['snapshot-codec.js', 'room-id.js', 'client-messages.js']))
-    for (const name of names) {
-      const response = await server.api('GET', `/protocol/${name}`)
-      expect(response.status, name).toBe(200)
-      expect(response.headers['content-type']).toMatch(/^text\/javascript/)
-      expect(response.text).toBe(readFileSync(`${PROTOCOL_DIR}/${name}`, 'utf8'))
-    }
-    for (const url of ['/protocol/nope.js', '/protocol/..%2Fpackage.json', '/protocol/../server/app.js']) {
-      expect((await server.api('GET', url)).status, url).toBe(404)
-    }
-  })
+  for (const [prefix, dir, expected, what] of [
+    ['protocol', PROTOCOL_DIR, ['snapshot-codec.js', 'room-id.js', 'client-messages.js'], 'every protocol file'],
+    ['charts', CHARTS_DIR, ['svg.js'], 'the chart writer']
+  ]) {
+    it(`serves ${what} unchanged at /${prefix}/, and nothing else from there`, async () => {
+      const names = readdirSync(dir).filter((n) => n.endsWith('.js'))
+      expect(names).toEqual(expect.arrayContaining(expected))
+      for (const name of names) {
+        const response = await server.api('GET', `/${prefix}/${name}`)
+        expect(response.status, name).toBe(200)
+        expect(response.headers['content-type']).toMatch(/^text\/javascript/)
+        expect(response.text).toBe(readFileSync(`${dir}/${name}`, 'utf8'))
+      }
+      for (const url of [`/${prefix}/nope.js`, `/${prefix}/..%2Fpackage.json`, `/${prefix}/../server/app.js`]) {
+        expect((await server.api('GET', url)).status, url).toBe(404)
+      }
+    })
+  }
 
   it('wraps seedrandom as an ES module that draws the same numbers as Node\'s', async () => {
     const response = await server.api('GET', '/vendor/seedrandom.js')
