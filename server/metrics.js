@@ -4,6 +4,9 @@ import { Counter, Gauge, Histogram, Registry, collectDefaultMetrics } from 'prom
 const TICK_SECONDS = [0.00005, 0.0001, 0.00025, 0.0005, 0.001, 0.002, 0.003, 0.004, 0.006, 0.008, 0.012, 0.0167, 0.025, 0.05]
 const LAG_SECONDS = [0.0005, 0.001, 0.002, 0.004, 0.008, 0.0167, 0.033, 0.05, 0.1, 0.25, 0.5, 1]
 
+/** Every metric's name starts with this, prom-client's process and Node.js metrics too. */
+export const METRIC_PREFIX = 'plinko_'
+
 /**
  * The server's Prometheus metrics, on their own Registry so several apps in
  * one process (tests) never share or clash.
@@ -12,7 +15,9 @@ const LAG_SECONDS = [0.0005, 0.001, 0.002, 0.004, 0.008, 0.0167, 0.033, 0.05, 0.
 export function createMetrics ({ defaultMetrics = true } = {}) {
   const registry = new Registry()
   const registers = [registry]
-  if (defaultMetrics) collectDefaultMetrics({ register: registry, prefix: 'plinko_process_' })
+  // prom-client's own names already say what they measure (process_cpu_seconds_total,
+  // nodejs_heap_size_used_bytes): one prefix, plinko_, as every other metric here.
+  if (defaultMetrics) collectDefaultMetrics({ register: registry, prefix: METRIC_PREFIX })
   const messagesOut = new Counter({ name: 'plinko_ws_messages_out_total', help: 'WebSocket messages sent, by type', labelNames: ['type'], registers })
   return {
     registry,

@@ -1,0 +1,291 @@
+import { clientMessageSchemas } from './message-schemas.js'
+import { ERROR_CODES } from '../errors.js'
+
+/**
+ * The WebSocket protocol (GET /ws) as an AsyncAPI 3.0 document, served at
+ * /api/asyncapi.json and rendered at /docs/websocket. The client → server
+ * messages are the very schemas the server validates every frame against
+ * (protocol/client-messages.js, with this server's bet limits); the
+ * server → client messages are described here, and tests/docs/ checks the
+ * messages a real session receives against these schemas (no unknown field
+ * passes), so the document cannot drift from what the server sends.
+ */
+
+const string = { type: 'string' }
+const integer = { type: 'integer' }
+/** Balances and payouts: credits, with up to three decimals (bets are whole credits). */
+const credits = { type: 'number', description: 'credits, up to three decimals' }
+const hash = { type: 'string', pattern: '^[0-9a-f]{64}$' }
+const ref = { description: 'the `ref` of the request this answers, echoed', anyOf: [{ type: 'string', maxLength: 64 }, { type: 'integer' }] }
+
+const object = (properties, required = Object.keys(properties), optional = {}) => ({
+  type: 'object',
+  properties: { ...properties, ...optional },
+  required,
+  additionalProperties: false
+})
+
+/** The facts every client needs to replay a drop: what `dropped` and `joined.balls` carry. */
+const dropFacts = {
+  dropId: integer,
+  player: string,
+  slot: { type: 'integer', minimum: 0, description: 'the ball\'s per-room number in snapshot frames' },
+  serverSeedHash: hash,
+  clientSeed: string,
+  nonce: integer,
+  dropSeed: hash,
+  engineVersion: string,
+  bet: integer,
+  startTick: integer
+}
+
+const droppedFields = { type: { const: 'dropped' }, room: string, ...dropFacts }
+const settledFields = {
+  type: { const: 'settled' },
+  room: string,
+  dropId: integer,
+  player: string,
+  bet: integer,
+  bucket: integer,
+  multiplier: { type: 'number' },
+  payout: credits,
+  ticks: integer,
+  tick: { type: 'integer', description: '`startTick + ticks`' },
+  stateHash: string
+}
+const ownerExtras = { balance: { ...credits, description: 'the owner\'s balance in credits after this event (to the owner\'s connections only)' }, ref }
+
+/** JSON schemas of every server → client text message, by type. */
+export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
+  welcome: {
+    summary: 'First message of every authenticated connection',
+    payload: object({
+      type: { const: 'welcome' },
+      playerId: string,
+      balance: credits,
+      serverSeedHash: hash,
+      clientSeed: string,
+      nonce: integer,
+      engineVersion: string,
+      tickRate: { const: 60 },
+      minBet: integer,
+      maxBet: integer
+    })
+  },
+  joined: {
+    summary: 'Reply to `join`: the room, its board and every ball in flight',
+    payload: object({
+      type: { const: 'joined' },
+      room: string,
+      board: { type: 'object', description: "the room's board (engine `createBoard` data): replay drops with `simulateDrop(board, dropSeed)`" },
+      tick: integer,
+      tickRate: { const: 60 },
+      snapshotEvery: { type: 'integer', description: 'ticks between two snapshot frames (60 / SNAPSHOT_HZ)' },
+      engineVersion: string,
+      balls: { type: 'array', items: object({ ...dropFacts, x: { type: 'number' }, y: { type: 'number' } }) }
+    }, ['type', 'room', 'board', 'tick', 'tickRate', 'snapshotEvery', 'engineVersion', 'balls'], { ref })
+  },
+  left: {
+    summary: 'Reply to `leave`',
+    payload: object({ type: { const: 'left' }, room: string }, ['type', 'room'], { ref })
+  },
+  pong: {
+    summary: 'Reply to `ping`',
+    payload: object({ type: { const: 'pong' }, serverTime: { type: 'integer', description: 'the server\'s clock, epoch ms' } }, ['type', 'serverTime'], { ref })
+  },
+  dropped: {
+    summary: 'A drop was recorded (its bet debited): to the owner at once, to the room with its next snapshot',
+    payload: object(droppedFields, Object.keys(droppedFields), ownerExtras)
+  },
+  settled: {
+    summary: 'A drop landed and its payout was credited',
+    payload: object(settledFields, Object.keys(settledFields), ownerExtras)
+  },
+  events: {
+    summary: "The room's events of one snapshot period, when no room frame carries them",
+    payload: object({
+      type: { const: 'events' },
+      room: string,
+      events: { type: 'array', items: { oneOf: [object(droppedFields), object(settledFields)] } }
+    })
+  },
+  balance: {
+    summary: "Clustered only: another process changed this player's committed balance",
+    payload: object({ type: { const: 'balance' }, balance: credits })
+  },
+  error: {
+    summary: 'A refused message, or why the connection is about to close',
+    payload: object({
+      type: { const: 'error' },
+      code: { type: 'string', enum: Object.keys(ERROR_CODES) },
+      message: string
+    }, ['type', 'code', 'message'], {
+      ref,
+      room: { type: 'string', description: 'E_WRONG_NODE, E_ROOM_MOVING: the room asked for' },
+      owner: { type: 'string', description: 'E_WRONG_NODE: the URL of the process that runs the room; reconnect to `owner + "/ws?token=…"`' },
+      retryAfterMs: { type: 'integer', description: 'E_ROOM_MOVING: join again after this long' }
+    })
+  }
+})
+
+/** The binary frames, described (their layout is in the README). */
+const BINARY_MESSAGES = {
+  snapshot: {
+    summary: 'Snapshot frame: every visible ball\'s position in a room',
+    description: 'Binary, little-endian: kind = 1 (uint8), room tick (uint32), S = highest visible slot + 1 (uint16), a presence bitmask of ⌈S/8⌉ bytes, then x and y of each present slot as 11-bit values of round(px·2), packed least-significant bit first. Sent every `snapshotEvery` ticks; decode with protocol/snapshot-codec.js.'
+  },
+  roomFrame: {
+    summary: 'Room frame: the period\'s events and a snapshot in one binary frame',
+    description: 'Binary, little-endian: kind = 2 (uint8), L (uint32), the events (`dropped`, `settled`) as a UTF-8 JSON array of L bytes, oldest first, then a snapshot frame. Split with protocol/snapshot-codec.js (`splitRoomFrame`).'
+  }
+}
+
+/** What the client sends, and what answers it. */
+const CLIENT_MESSAGE_DOCS = {
+  join: { summary: 'Join a room: `ROWS-RISK` (e.g. `16-medium`) or an instance `ROWS-RISK.N` (N 2–8)', reply: ['joined', 'error'] },
+  leave: { summary: 'Leave the room', reply: ['left', 'error'] },
+  drop: { summary: 'Drop a ball: `bet` credits; a `clientSeed` becomes the player\'s client seed in the drop\'s own transaction', reply: ['dropped', 'error'] },
+  ping: { summary: 'Round trip; counts against the frame rate like any frame', reply: ['pong'] }
+}
+
+/** WebSocket close codes the server uses. */
+export const CLOSE_CODES = Object.freeze({
+  1001: 'server shutting down',
+  1002: 'protocol error (bad frame)',
+  1007: 'invalid UTF-8',
+  1008: 'policy: over the frame rate (E_RATE_LIMITED) or a flood before authentication',
+  1009: 'frame larger than WS_MAX_PAYLOAD',
+  1011: 'internal error while authenticating',
+  1013: 'slow client (E_SLOW_CONSUMER)',
+  4401: 'unauthorized (E_UNAUTHORIZED)',
+  4429: 'too many connections (E_TOO_MANY_CONNECTIONS)'
+})
+
+/**
+ * @param {{ minBet: number, maxBet: number, wsMaxPayload: number }} config
+ * @param {{ version: string, host: string }} where this server's version and the host clients reach it at
+ */
+export function asyncApiDocument (config, { version, host }) {
+  const clientSchemas = clientMessageSchemas(config)
+  const messages = {}
+  for (const [type, schema] of Object.entries(clientSchemas)) {
+    messages[type] = { name: type, title: `${type} (client → server)`, summary: CLIENT_MESSAGE_DOCS[type]?.summary ?? type, contentType: 'application/json', payload: schema }
+  }
+  for (const [type, { summary, payload }] of Object.entries(SERVER_MESSAGE_SCHEMAS)) {
+    messages[type] = { name: type, title: `${type} (server → client)`, summary, contentType: 'application/json', payload }
+  }
+  for (const [name, { summary, description }] of Object.entries(BINARY_MESSAGES)) {
+    messages[name] = { name, title: `${name} (server → client, binary)`, summary, description, contentType: 'application/octet-stream', payload: { type: 'string', format: 'binary' } }
+  }
+  const channelRef = { $ref: '#/channels/game' }
+  const messageRef = (name) => ({ $ref: `#/channels/game/messages/${name}` })
+  const operations = {}
+  for (const type of Object.keys(clientSchemas)) {
+    operations[`receive-${type}`] = {
+      action: 'receive',
+      title: `Client sends ${type}`,
+      summary: CLIENT_MESSAGE_DOCS[type]?.summary ?? type,
+      channel: channelRef,
+      messages: [messageRef(type)],
+      ...(CLIENT_MESSAGE_DOCS[type]?.reply ? { reply: { channel: channelRef, messages: CLIENT_MESSAGE_DOCS[type].reply.map(messageRef) } } : {})
+    }
+  }
+  for (const name of [...Object.keys(SERVER_MESSAGE_SCHEMAS), ...Object.keys(BINARY_MESSAGES)]) {
+    if (['joined', 'left', 'pong'].includes(name)) continue // only ever replies, listed with their requests
+    operations[`send-${name}`] = { action: 'send', title: `Server sends ${name}`, summary: messages[name].summary, channel: channelRef, messages: [messageRef(name)] }
+  }
+  return {
+    asyncapi: '3.0.0',
+    info: {
+      title: 'Plinko Arena game protocol',
+      version,
+      description: [
+        'The real-time protocol of GET /ws?token=SESSION_TOKEN (create a token with POST /api/session).',
+        `Client messages are JSON text frames of at most ${config.wsMaxPayload} bytes, checked against the schemas below before any handler runs (unknown properties are refused); each may carry \`ref\`, echoed in the direct reply.`,
+        'A bad or missing token still upgrades, then gets an `error` E_UNAUTHORIZED and close code 4401.',
+        'Refused messages change nothing: no debit, no nonce, no ledger row.',
+        `Close codes: ${Object.entries(CLOSE_CODES).map(([code, why]) => `${code} ${why}`).join('; ')}.`
+      ].join('\n\n')
+    },
+    defaultContentType: 'application/json',
+    servers: {
+      game: {
+        host,
+        protocol: 'ws',
+        pathname: '/ws',
+        description: 'This server (wss behind a TLS proxy)',
+        bindings: { ws: { query: { type: 'object', properties: { token: { type: 'string', maxLength: 128, description: 'session token from POST /api/session' } }, required: ['token'] } } }
+      }
+    },
+    channels: {
+      game: {
+        address: '/ws',
+        title: 'The game connection',
+        description: 'One connection per browser tab; join one room at a time.',
+        servers: [{ $ref: '#/servers/game' }],
+        messages
+      }
+    },
+    operations
+  }
+}
+
+/** HTML-escaped text. @param {unknown} value */
+const escape = (value) => String(value).replace(/[&<>"']/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' })[c])
+
+/** A schema's fields as table rows: name, type and constraints, required. */
+function fieldRows (schema) {
+  const required = new Set(schema.required ?? [])
+  return Object.entries(schema.properties ?? {}).map(([name, field]) => {
+    const facts = []
+    if (field.const !== undefined) facts.push(`= ${JSON.stringify(field.const)}`)
+    else if (field.anyOf || field.oneOf) facts.push((field.anyOf ?? field.oneOf).map((f) => f.type ?? 'object').join(' | '))
+    else facts.push(Array.isArray(field.type) ? field.type.join(' | ') : field.type ?? 'any')
+    for (const key of ['minimum', 'maximum', 'maxLength', 'pattern']) if (field[key] !== undefined) facts.push(`${key} ${field[key]}`)
+    if (field.enum) facts.push(`one of ${field.enum.join(', ')}`)
+    if (field.items?.properties) facts.push(`items: { ${Object.keys(field.items.properties).join(', ')} }`)
+    return `<tr><td><code>${escape(name)}</code></td><td>${escape(facts.join('; '))}</td><td>${required.has(name) ? 'yes' : ''}</td><td>${escape(field.description ?? '')}</td></tr>`
+  }).join('\n')
+}
+
+/**
+ * The AsyncAPI document as one static HTML page (no script, so it passes the
+ * app's Content-Security-Policy as it is).
+ * @param {ReturnType<typeof asyncApiDocument>} document
+ */
+export function asyncApiPage (document) {
+  const messages = document.channels.game.messages
+  const section = (message) => `<section id="${escape(message.name)}">
+<h3>${escape(message.title)}</h3>
+<p>${escape(message.summary)}</p>
+${message.description ? `<p>${escape(message.description)}</p>` : ''}
+${message.payload.properties ? `<table><thead><tr><th>field</th><th>type</th><th>required</th><th></th></tr></thead><tbody>\n${fieldRows(message.payload)}\n</tbody></table>` : ''}
+</section>`
+  const replies = Object.values(document.operations).filter((op) => op.action === 'receive')
+  return `<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<link rel="icon" href="data:,">
+<title>${escape(document.info.title)}</title>
+<style>body{font-family:system-ui,sans-serif;max-width:60rem;margin:2rem auto;padding:0 1rem;line-height:1.4}table{border-collapse:collapse;margin:.5rem 0 1.5rem}td,th{border:1px solid #ccc;padding:.2rem .5rem;text-align:left;vertical-align:top}code{font-size:.95em}</style>
+</head>
+<body>
+<h1>${escape(document.info.title)} <small>${escape(document.info.version)}</small></h1>
+${document.info.description.split('\n\n').map((p) => `<p>${escape(p)}</p>`).join('\n')}
+<p>Machine-readable: <a href="/api/asyncapi.json">/api/asyncapi.json</a> (AsyncAPI ${escape(document.asyncapi)}). HTTP API: <a href="/docs">/docs</a>.</p>
+<h2>Client → server</h2>
+<table><thead><tr><th>message</th><th>answered by</th></tr></thead><tbody>
+${replies.map((op) => `<tr><td><a href="#${escape(op.messages[0].$ref.split('/').pop())}">${escape(op.messages[0].$ref.split('/').pop())}</a></td><td>${(op.reply?.messages ?? []).map((m) => m.$ref.split('/').pop()).map((name) => `<a href="#${escape(name)}">${escape(name)}</a>`).join(', ')}</td></tr>`).join('\n')}
+</tbody></table>
+${Object.values(messages).filter((m) => m.title.includes('client → server')).map(section).join('\n')}
+<h2>Server → client</h2>
+${Object.values(messages).filter((m) => m.title.includes('server → client')).map(section).join('\n')}
+<h2>Error codes</h2>
+<table><thead><tr><th>code</th><th>HTTP status</th><th>close code</th><th>message</th></tr></thead><tbody>
+${Object.entries(ERROR_CODES).map(([code, { status, close, message }]) => `<tr><td><code>${code}</code></td><td>${status}</td><td>${close ?? ''}</td><td>${escape(message)}</td></tr>`).join('\n')}
+</tbody></table>
+</body>
+</html>
+`
+}
