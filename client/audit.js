@@ -4,6 +4,7 @@ import { byId, el, fill, formatAmount, formatMultiplier, shortHex } from './dom.
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
+import { payoutMilli, toCredits } from '/protocol/payout.js'
 import { bucketChart, rtpChart, legend, CHART_COLORS } from './rtp-chart.js'
 
 /**
@@ -17,6 +18,11 @@ import { bucketChart, rtpChart, legend, CHART_COLORS } from './rtp-chart.js'
 
 const TOKEN_KEY = 'plinko.operatorToken'
 const STATS_REFRESH_MS = 2000
+/** The RTP chart starts from the room's recorded history: this many of its latest drops at most (pages of HISTORY_PAGE). */
+const HISTORY_DROPS = 5000
+const HISTORY_PAGE = 1000
+/** Points the history is drawn with. */
+const HISTORY_POINTS = 60
 
 const renderer = new BoardRenderer(byId('replay-canvas'), {
   maxHeight: () => Math.min(620, window.innerHeight * 0.7),
@@ -32,9 +38,9 @@ const state = {
   stats: { room: null, timer: null, samples: [], last: null }
 }
 
-/** The server's payout rule (server/fairness/payout.js): integer thousandths, rounded down. */
-function payoutFor (bet, multiplier) {
-  return Math.floor(bet * Math.round(multiplier * 1000) / 1000)
+/** The server's payout, in credits, under the rule the drop was paid under (protocol/payout.js). */
+function payoutFor (bet, multiplier, rule) {
+  return toCredits(payoutMilli(bet, multiplier, rule))
 }
 
 function operatorGet (path) {
@@ -121,7 +127,7 @@ async function lookupById (id) {
     dropSeed: chain ? chain.dropSeed : null,
     bucket: local.bucket,
     multiplier: local.multiplier,
-    payout: payoutFor(drop.bet, local.multiplier),
+    payout: payoutFor(drop.bet, local.multiplier, drop.payoutRule),
     ticks: local.ticks,
     stateHash: local.stateHash
   }
@@ -146,14 +152,15 @@ async function lookupBySeeds ({ serverSeed, clientSeed, nonce, rows, risk, engin
   const board = createBoard({ rows, risk, engineVersion })
   const local = simulateDrop(board, chain.dropSeed, { trajectory: true })
   const bet = stored?.drop.bet ?? null
-  const replay = { ...verified, payout: bet === null ? null : payoutFor(bet, verified.multiplier) }
+  const rule = stored?.drop.payoutRule
+  const replay = { ...verified, payout: bet === null ? null : payoutFor(bet, verified.multiplier, rule) }
   const browser = {
     engineVersion,
     serverSeedHash: chain.serverSeedHash,
     dropSeed: chain.dropSeed,
     bucket: local.bucket,
     multiplier: local.multiplier,
-    payout: bet === null ? null : payoutFor(bet, local.multiplier),
+    payout: bet === null ? null : payoutFor(bet, local.multiplier, rule),
     ticks: local.ticks,
     stateHash: local.stateHash
   }
@@ -258,17 +265,54 @@ async function showStats (room) {
   if (state.stats.room !== room) {
     state.stats.room = room
     state.stats.samples = []
+    state.stats.history = null
   }
   clearTimeout(state.stats.timer)
   try {
     const stats = await operatorGet(`/api/audit/rooms/${room}/stats`)
     if (state.stats.room !== room) return
+    if (state.stats.history === null) {
+      state.stats.history = await roomHistory(room, stats)
+      if (state.stats.room !== room) return
+      state.stats.samples = state.stats.history.samples.slice()
+    }
     state.stats.last = stats
     renderStats(stats)
   } catch (error) {
     byId('stats').replaceChildren(el('p', { class: 'note', text: error.message }))
   }
   if (state.token && state.stats.room === room) state.stats.timer = setTimeout(() => showStats(room), STATS_REFRESH_MS)
+}
+
+/**
+ * The room's measured RTP as it grew, from its recorded drops (GET
+ * /api/audit/drops?room=…, newest first, paged), so the chart of a quiet
+ * room starts with its history instead of empty: its latest
+ * HISTORY_DROPS settled drops under the room's engine version, oldest
+ * first, as HISTORY_POINTS samples of the running RTP with its 95% band.
+ */
+async function roomHistory (room, stats) {
+  const drops = []
+  let before
+  while (drops.length < HISTORY_DROPS) {
+    const page = await operatorGet(`/api/audit/drops${query({ room, limit: HISTORY_PAGE, before })}`).catch(() => ({ drops: [] }))
+    drops.push(...page.drops)
+    if (page.drops.length < HISTORY_PAGE) break
+    before = page.drops[page.drops.length - 1].id
+  }
+  const settled = drops.filter((d) => d.status === 'settled' && d.engineVersion === stats.engineVersion && d.bucket !== null).sort((p, q) => p.id - q.id)
+  // Drops older than those loaded still count towards the total on the x axis.
+  const earlier = Math.max(0, stats.settled - settled.length)
+  const counts = new Array(stats.multipliers.length).fill(0)
+  const samples = []
+  const every = Math.max(1, Math.ceil(settled.length / HISTORY_POINTS))
+  settled.forEach((drop, i) => {
+    counts[drop.bucket]++
+    if ((i + 1) % every !== 0 && i !== settled.length - 1) return
+    const s = rtpStatistics(counts, stats.multipliers)
+    samples.push({ drops: earlier + s.drops, rtp: s.rtp, low: s.ci95[0], high: s.ci95[1] })
+  })
+  return { loaded: settled.length, samples }
 }
 
 function stopStats () {
@@ -361,6 +405,9 @@ window.__audit = {
   get lookups () { return state.lookups },
   get replay () { return { tick: player.tick, ticks: player.ticks, playing: player.playing, bucket: player.bucket } },
   get stats () { return state.stats.last },
+  /** the RTP chart's points, the room's history first */
+  get rtpSamples () { return state.stats.samples.map((s) => ({ ...s })) },
+  get historyLoaded () { return state.stats.history ? state.stats.history.loaded : null },
   get frames () { return renderer.frames },
   lookupById,
   lookupBySeeds

@@ -5,19 +5,39 @@ import { formatMultiplier } from './dom.js'
  * scaled to fit its container (phone to desktop). Everything static — the
  * background, walls, pegs, buckets and their multipliers — is drawn once
  * into an offscreen layer when the board or the size changes; a frame is
- * that layer, the bucket flashes and the balls.
+ * that layer, the effects (peg glows, bucket bounces with their multiplier
+ * popping, floating payouts, big-win bursts) and the balls with their trails.
+ * Effects are started by the caller from what the local simulation says
+ * happened (RoomView's peg hits and landings), never guessed.
  */
 
 /**
  * Sizes of what is drawn around the physics, in units of 1/36 of a bucket's
  * width (board px on the 36 px buckets of engine 1.0.0), so every board,
  * whatever its scale, looks the same. Bucket boxes span from BUCKET_TOP
- * above the bucket line to BUCKET_BOTTOM below it; the view ends a little lower.
+ * above the bucket line to `bucketBottom` below it (BUCKET_BOTTOM, or
+ * deeper when the labels have to stand upright to stay readable on a
+ * narrow screen); the view ends a little lower.
  */
 const BUCKET_TOP = 4
 const BUCKET_BOTTOM = 22
 const VIEW_MARGIN_BOTTOM = 4
-const FLASH_MS = 450
+/** Bucket labels are never drawn smaller than this (CSS px): below it they stand upright in deeper buckets. */
+export const MIN_LABEL_PX = 9
+const LABEL_PX = 13
+const UPRIGHT_LABEL_PX = 11
+/**
+ * Bucket depth (units) when the labels stand upright: fixed, so the board's
+ * shape on a phone is known ahead (style.css reserves it before any script
+ * runs); deep enough for "0.201×" at MIN_LABEL_PX down to 320 px screens.
+ */
+export const UPRIGHT_BUCKET_BOTTOM = 72
+const FLASH_MS = 520
+const GLOW_MS = 320
+const FLOAT_MS = 1300
+const BURST_MS = 1700
+const TRAIL_TICKS = 7
+const MAX_PARTICLES = 240
 
 /** Board px per drawing unit on `board`. @param {{ bucketWidth: number }} board */
 function unitOf (board) {
@@ -42,8 +62,24 @@ export class BoardRenderer {
     this.layer = document.createElement('canvas')
     this.scale = 1
     this.ratio = 1
+    /** Bucket box depth below the bucket line, in drawing units. */
+    this.bucketBottom = BUCKET_BOTTOM
+    /** @type {{ text: string, px: number, width: number, room: number, upright: boolean }[]} how each bucket label was drawn (CSS px) */
+    this.labels = []
     /** @type {{ bucket: number, mine: boolean, start: number }[]} */
     this.flashes = []
+    /** @type {{ peg: number, mine: boolean, start: number }[]} */
+    this.glows = []
+    /** @type {{ text: string, x: number, y: number, start: number, big: boolean, color: string }[]} */
+    this.floaters = []
+    /** @type {{ x: number, y: number, vx: number, vy: number, color: string, start: number, size: number }[]} */
+    this.particles = []
+    /** @type {{ bucket: number, start: number }[]} */
+    this.bursts = []
+    /** Effects started so far, by kind (for tests and the curious). */
+    this.effects = { pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0 }
+    /** @type {string[]} the texts of the floating payouts shown, latest last (at most 50) */
+    this.floaterTexts = []
     this._colors = []
     this.frames = 0
     // Resizing the canvas resizes its container: do it on the next frame,
@@ -63,13 +99,31 @@ export class BoardRenderer {
   setBoard (board) {
     this.board = board
     this.flashes.length = 0
+    this.glows.length = 0
+    this.floaters.length = 0
+    this.particles.length = 0
+    this.bursts.length = 0
     this._colors = bucketColors(board.multipliers)
     this.resize()
   }
 
+  /** The colour of each bucket of the current board (CSS). */
+  get colors () {
+    return this._colors
+  }
+
   /** Height of the drawn world: the board and its bucket boxes. */
   get viewHeight () {
-    return this.board ? this.board.bucketLineY + (BUCKET_BOTTOM + VIEW_MARGIN_BOTTOM) * unitOf(this.board) : 1
+    return this.board ? this._viewHeightFor(this.bucketBottom) : 1
+  }
+
+  _viewHeightFor (bucketBottom) {
+    return this.board.bucketLineY + (bucketBottom + VIEW_MARGIN_BOTTOM) * unitOf(this.board)
+  }
+
+  /** Anything still animating (the caller keeps drawing frames until it is not). */
+  get busy () {
+    return this.flashes.length > 0 || this.glows.length > 0 || this.floaters.length > 0 || this.particles.length > 0 || this.bursts.length > 0
   }
 
   resize () {
@@ -77,16 +131,30 @@ export class BoardRenderer {
     const parent = this.canvas.parentElement
     if (!board || !parent) return
     const available = Math.max(160, parent.clientWidth)
-    const scale = Math.min(available / board.width, Math.max(160, this.maxHeight()) / this.viewHeight)
+    const tallest = Math.max(160, this.maxHeight())
+    const scaleFor = (bucketBottom) => Math.min(available / board.width, tallest / this._viewHeightFor(bucketBottom))
+    // Labels lying flat if they fit at a readable size; else upright, in buckets deep enough for the longest.
+    let bucketBottom = BUCKET_BOTTOM
+    let scale = scaleFor(bucketBottom)
+    const upright = !this._labelsFitFlat(scale)
+    if (upright) {
+      bucketBottom = UPRIGHT_BUCKET_BOTTOM
+      scale = scaleFor(bucketBottom)
+    }
+    const viewHeight = this._viewHeightFor(bucketBottom)
     const cssWidth = Math.floor(board.width * scale)
-    const cssHeight = Math.floor(this.viewHeight * scale)
+    const cssHeight = Math.floor(viewHeight * scale)
     const ratio = Math.min(3, window.devicePixelRatio || 1)
+    // The page reserves the board's space with this (CSS), so nothing moves when the canvas is sized.
+    parent.style.setProperty('--board-aspect', String(board.width / viewHeight))
     if (cssWidth === this._cssWidth && cssHeight === this._cssHeight && ratio === this.ratio && this.layer.width > 0 && this._layerBoard === board) return
     this._cssWidth = cssWidth
     this._cssHeight = cssHeight
     this._layerBoard = board
     this.scale = scale
     this.ratio = ratio
+    this.bucketBottom = bucketBottom
+    this.upright = upright
     this.canvas.style.width = `${cssWidth}px`
     this.canvas.style.height = `${cssHeight}px`
     this.canvas.width = Math.round(cssWidth * ratio)
@@ -98,9 +166,75 @@ export class BoardRenderer {
     this.onResize()
   }
 
-  /** Lights bucket `bucket` for a moment. @param {number} bucket @param {boolean} mine @param {number} now */
+  /** Every label fits its bucket lying flat at MIN_LABEL_PX or more, at `scale` CSS px per board px. */
+  _labelsFitFlat (scale) {
+    const board = this.board
+    const u = unitOf(board)
+    const room = (board.bucketWidth - 6 * u) * scale
+    const ctx = this.layer.getContext('2d')
+    ctx.font = labelFont(MIN_LABEL_PX)
+    return board.multipliers.every((m) => ctx.measureText(formatMultiplier(m)).width <= room)
+  }
+
+  /** Upright labels: as large as the bucket's width allows (UPRIGHT_LABEL_PX at most), shrunk to the box's length, never below MIN_LABEL_PX. */
+  _uprightPx (scale, text) {
+    const board = this.board
+    const u = unitOf(board)
+    const across = (board.bucketWidth - 6 * u) * scale * 0.9
+    const along = (BUCKET_TOP + this.bucketBottom - 4) * u * scale
+    const ctx = this.layer.getContext('2d')
+    ctx.font = labelFont(UPRIGHT_LABEL_PX)
+    const natural = ctx.measureText(text).width
+    return Math.max(MIN_LABEL_PX, Math.min(UPRIGHT_LABEL_PX, across, UPRIGHT_LABEL_PX * along / natural))
+  }
+
+  /** Bounces bucket `bucket` and pops its multiplier. @param {number} bucket @param {boolean} mine @param {number} now */
   flash (bucket, mine, now) {
     this.flashes.push({ bucket, mine, start: now })
+    this.effects.bucketPops++
+  }
+
+  /** A short glow on peg `peg` (index in board.pegs). @param {number} peg @param {boolean} mine @param {number} now */
+  glowPeg (peg, mine, now) {
+    const glow = this.glows.find((g) => g.peg === peg)
+    if (glow) {
+      glow.start = now
+      glow.mine = glow.mine || mine
+    } else {
+      this.glows.push({ peg, mine, start: now })
+    }
+    this.effects.pegGlows++
+  }
+
+  /**
+   * Floating text rising from a bucket ("+2,500").
+   * @param {number} bucket @param {string} text @param {number} now @param {{ big?: boolean }} [options]
+   */
+  floatText (bucket, text, now, { big = false } = {}) {
+    const board = this.board
+    if (!board) return
+    const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
+    this.floaters.push({ text, x, y: board.bucketLineY - 10 * unitOf(board), start: now, big, color: this._colors[bucket] ?? '#fff' })
+    this.effects.floaters++
+    this.floaterTexts.push(text)
+    if (this.floaterTexts.length > 50) this.floaterTexts.shift()
+  }
+
+  /** A big win: sparks burst from the bucket and the board glows in its colour. @param {number} bucket @param {number} now */
+  celebrate (bucket, now) {
+    const board = this.board
+    if (!board) return
+    const u = unitOf(board)
+    const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
+    const y = board.bucketLineY
+    const palette = ['#ffd84d', '#ff5a8a', '#7cf2c9', '#ffffff', this._colors[bucket] ?? '#ffc400']
+    for (let i = 0; i < 70 && this.particles.length < MAX_PARTICLES; i++) {
+      const angle = -Math.PI / 2 + (Math.random() - 0.5) * Math.PI * 0.9
+      const speed = (60 + Math.random() * 140) * u
+      this.particles.push({ x, y, vx: Math.cos(angle) * speed, vy: Math.sin(angle) * speed, color: palette[i % palette.length], start: now, size: (2 + Math.random() * 3) * u })
+    }
+    this.bursts.push({ bucket, start: now })
+    this.effects.bursts++
   }
 
   /**
@@ -121,16 +255,9 @@ export class BoardRenderer {
     const u = unitOf(board)
     ctx.setTransform(s, 0, 0, s, 0, 0)
 
-    this.flashes = this.flashes.filter((f) => now - f.start < FLASH_MS)
-    for (const f of this.flashes) {
-      const t = (now - f.start) / FLASH_MS
-      const x = board.bucketLeftX + f.bucket * board.bucketWidth
-      ctx.globalAlpha = (1 - t) * 0.85
-      ctx.fillStyle = f.mine ? '#ffffff' : '#cfd8ff'
-      roundRect(ctx, x + 2 * u, board.bucketLineY + (3 * Math.sin(t * Math.PI) - BUCKET_TOP) * u, board.bucketWidth - 4 * u, (BUCKET_TOP + BUCKET_BOTTOM) * u, 4 * u)
-      ctx.fill()
-    }
-    ctx.globalAlpha = 1
+    this._drawBursts(ctx, now, u)
+    this._drawGlows(ctx, now, u)
+    this._drawFlashes(ctx, now, u, s)
 
     const trail = extra.trail
     if (trail && trail.upto > 0) {
@@ -143,19 +270,40 @@ export class BoardRenderer {
     }
 
     const r = board.ballRadius
+    // Trails first, so no trail crosses a ball.
+    ctx.lineCap = 'round'
+    for (const pose of poses) {
+      if (!pose.trajectory || pose.alpha < 1) continue
+      const t = pose.trajectory
+      const newest = Math.floor(pose.age)
+      if (newest < 1) continue
+      ctx.strokeStyle = pose.mine ? 'rgba(255, 110, 150, 0.30)' : 'rgba(150, 170, 230, 0.18)'
+      ctx.lineWidth = r * (pose.mine ? 1.1 : 0.8)
+      ctx.beginPath()
+      ctx.moveTo(pose.x, pose.y)
+      for (let i = newest; i >= Math.max(0, newest - TRAIL_TICKS); i--) ctx.lineTo(t[3 * i] + pose.ox, t[3 * i + 1] + pose.oy)
+      ctx.stroke()
+    }
     for (const pose of poses) {
       ctx.globalAlpha = Math.max(0, Math.min(1, pose.alpha))
+      if (pose.mine) {
+        // Own balls: a halo, and warm colours.
+        ctx.fillStyle = 'rgba(255, 90, 138, 0.28)'
+        ctx.beginPath()
+        ctx.arc(pose.x, pose.y, r * 1.75, 0, Math.PI * 2)
+        ctx.fill()
+      }
       const gradient = ctx.createRadialGradient(pose.x - r * 0.35, pose.y - r * 0.35, r * 0.15, pose.x, pose.y, r)
       if (pose.mine) {
         gradient.addColorStop(0, '#fff3b0')
         gradient.addColorStop(1, '#ff5a8a')
       } else {
-        gradient.addColorStop(0, '#ffffff')
-        gradient.addColorStop(1, '#7f93c9')
+        gradient.addColorStop(0, '#e9eeff')
+        gradient.addColorStop(1, '#6f83b9')
       }
       ctx.fillStyle = gradient
       ctx.beginPath()
-      ctx.arc(pose.x, pose.y, r, 0, Math.PI * 2)
+      ctx.arc(pose.x, pose.y, pose.mine ? r : r * 0.9, 0, Math.PI * 2)
       ctx.fill()
       // A mark on the ball shows its spin.
       ctx.strokeStyle = 'rgba(30, 20, 60, 0.55)'
@@ -166,6 +314,147 @@ export class BoardRenderer {
       ctx.stroke()
     }
     ctx.globalAlpha = 1
+
+    this._drawParticles(ctx, now)
+    this._drawFloaters(ctx, now, u, s)
+    ctx.globalAlpha = 1
+  }
+
+  _drawGlows (ctx, now, u) {
+    const board = this.board
+    this.glows = this.glows.filter((g) => now - g.start < GLOW_MS)
+    for (const g of this.glows) {
+      const peg = board.pegs[g.peg]
+      if (!peg) continue
+      const t = (now - g.start) / GLOW_MS
+      const radius = board.pegRadius + (3 + 5 * t) * u
+      const glow = ctx.createRadialGradient(peg.x, peg.y, board.pegRadius * 0.5, peg.x, peg.y, radius)
+      glow.addColorStop(0, g.mine ? 'rgba(255, 225, 120, 0.95)' : 'rgba(180, 205, 255, 0.7)')
+      glow.addColorStop(1, 'rgba(255, 225, 120, 0)')
+      ctx.globalAlpha = 1 - t
+      ctx.fillStyle = glow
+      ctx.beginPath()
+      ctx.arc(peg.x, peg.y, radius, 0, Math.PI * 2)
+      ctx.fill()
+      ctx.fillStyle = '#ffffff'
+      ctx.beginPath()
+      ctx.arc(peg.x, peg.y, board.pegRadius * (1 + 0.35 * (1 - t)), 0, Math.PI * 2)
+      ctx.fill()
+    }
+    ctx.globalAlpha = 1
+  }
+
+  _drawFlashes (ctx, now, u, s) {
+    const board = this.board
+    this.flashes = this.flashes.filter((f) => now - f.start < FLASH_MS)
+    const height = (BUCKET_TOP + this.bucketBottom) * u
+    for (const f of this.flashes) {
+      const t = (now - f.start) / FLASH_MS
+      const x = board.bucketLeftX + f.bucket * board.bucketWidth
+      // The bucket dips and springs back; its label pops.
+      const dip = 4 * Math.sin(Math.min(1, t * 1.6) * Math.PI) * (1 - t) * u
+      const top = board.bucketLineY - BUCKET_TOP * u + dip
+      ctx.globalAlpha = 1
+      ctx.fillStyle = '#0b1024'
+      ctx.fillRect(x + 1 * u, board.bucketLineY - BUCKET_TOP * u, board.bucketWidth - 2 * u, height + 5 * u)
+      ctx.fillStyle = this._colors[f.bucket]
+      roundRect(ctx, x + 2 * u, top, board.bucketWidth - 4 * u, height, 4 * u)
+      ctx.fill()
+      ctx.globalAlpha = (1 - t) * 0.7
+      ctx.fillStyle = f.mine ? '#ffffff' : '#cfd8ff'
+      roundRect(ctx, x + 2 * u, top, board.bucketWidth - 4 * u, height, 4 * u)
+      ctx.fill()
+      ctx.globalAlpha = 1
+      const pop = 1 + 0.45 * Math.sin(Math.min(1, t * 2) * Math.PI)
+      this._label(ctx, f.bucket, x + board.bucketWidth / 2, top + height / 2 + 0.5 * u, s, pop)
+    }
+    ctx.globalAlpha = 1
+  }
+
+  _drawFloaters (ctx, now, u, s) {
+    this.floaters = this.floaters.filter((f) => now - f.start < FLOAT_MS)
+    for (const f of this.floaters) {
+      const t = (now - f.start) / FLOAT_MS
+      const px = (f.big ? 22 : 14) * (1 + 0.15 * Math.sin(Math.min(1, t * 3) * Math.PI))
+      ctx.font = `800 ${px / this.scale}px system-ui, sans-serif`
+      ctx.textAlign = 'center'
+      ctx.textBaseline = 'middle'
+      const y = f.y - (f.big ? 40 : 24) * u * easeOut(t)
+      // Keep the text on the board.
+      const half = ctx.measureText(f.text).width / 2
+      const x = Math.max(half + 2 * u, Math.min(this.board.width - half - 2 * u, f.x))
+      ctx.globalAlpha = t < 0.7 ? 1 : (1 - t) / 0.3
+      ctx.lineWidth = 3 / this.scale
+      ctx.strokeStyle = 'rgba(10, 8, 30, 0.85)'
+      ctx.strokeText(f.text, x, y)
+      ctx.fillStyle = f.big ? '#ffd84d' : '#7cf29a'
+      ctx.fillText(f.text, x, y)
+    }
+    ctx.globalAlpha = 1
+  }
+
+  _drawBursts (ctx, now, u) {
+    const board = this.board
+    this.bursts = this.bursts.filter((b) => now - b.start < BURST_MS)
+    for (const b of this.bursts) {
+      const t = (now - b.start) / BURST_MS
+      const x = board.bucketLeftX + (b.bucket + 0.5) * board.bucketWidth
+      const radius = (40 + 260 * easeOut(t)) * u
+      const glow = ctx.createRadialGradient(x, board.bucketLineY, 0, x, board.bucketLineY, radius)
+      glow.addColorStop(0, 'rgba(255, 216, 77, 0.45)')
+      glow.addColorStop(1, 'rgba(255, 90, 138, 0)')
+      ctx.globalAlpha = 1 - t
+      ctx.fillStyle = glow
+      ctx.fillRect(0, 0, board.width, board.height + 20 * u)
+    }
+    ctx.globalAlpha = 1
+  }
+
+  _drawParticles (ctx, now) {
+    const board = this.board
+    const gravity = 980 * unitOf(board) / 4
+    this.particles = this.particles.filter((p) => now - p.start < BURST_MS)
+    for (const p of this.particles) {
+      const t = (now - p.start) / 1000
+      const x = p.x + p.vx * t
+      const y = p.y + p.vy * t + 0.5 * gravity * t * t
+      ctx.globalAlpha = Math.max(0, 1 - (now - p.start) / BURST_MS)
+      ctx.fillStyle = p.color
+      ctx.fillRect(x - p.size / 2, y - p.size / 2, p.size, p.size)
+    }
+    ctx.globalAlpha = 1
+  }
+
+  /** Bucket `i`'s multiplier centred at (x, y), flat or upright as the layout says, `pop` times its size. */
+  _label (ctx, i, x, y, s, pop = 1) {
+    const board = this.board
+    const u = unitOf(board)
+    const text = formatMultiplier(board.multipliers[i])
+    const scale = this.scale
+    ctx.save()
+    ctx.fillStyle = '#1a1030'
+    ctx.textAlign = 'center'
+    ctx.textBaseline = 'middle'
+    ctx.translate(x, y)
+    let px
+    let room
+    if (this.upright) {
+      px = this._uprightPx(scale, text)
+      room = (BUCKET_TOP + this.bucketBottom - 4) * u * scale
+      ctx.rotate(-Math.PI / 2)
+    } else {
+      room = (board.bucketWidth - 6 * u) * scale
+      ctx.font = labelFont(LABEL_PX)
+      const natural = ctx.measureText(text).width
+      px = natural > room ? Math.max(MIN_LABEL_PX, LABEL_PX * room / natural) : LABEL_PX
+    }
+    ctx.font = labelFont(px * pop / scale)
+    ctx.fillText(text, 0, 0)
+    ctx.restore()
+    if (pop === 1) {
+      ctx.font = labelFont(px)
+      this.labels[i] = { text, px, width: ctx.measureText(text).width, room, upright: Boolean(this.upright) }
+    }
   }
 
   _drawStatic () {
@@ -209,19 +498,20 @@ export class BoardRenderer {
     }
 
     const top = board.bucketLineY - BUCKET_TOP * u
-    const height = (BUCKET_TOP + BUCKET_BOTTOM) * u
+    const height = (BUCKET_TOP + this.bucketBottom) * u
+    this.labels = []
     for (let i = 0; i < board.multipliers.length; i++) {
       const x = board.bucketLeftX + i * board.bucketWidth
       ctx.fillStyle = this._colors[i]
       roundRect(ctx, x + 2 * u, top, board.bucketWidth - 4 * u, height, 4 * u)
       ctx.fill()
-      fitText(ctx, formatMultiplier(board.multipliers[i]), x + board.bucketWidth / 2, top + height / 2 + 0.5 * u, board.bucketWidth - 6 * u, s, u)
+      this._label(ctx, i, x + board.bucketWidth / 2, top + height / 2 + 0.5 * u, this.scale)
     }
   }
 }
 
-/** Bucket colours from yellow (lowest multiplier) to red (highest), on a log scale. */
-function bucketColors (multipliers) {
+/** Bucket colours from yellow (lowest multiplier) to red (highest), on a log scale. @param {number[]} multipliers */
+export function bucketColors (multipliers) {
   const logs = multipliers.map((m) => Math.log(m))
   const min = Math.min(...logs)
   const span = Math.max(1e-9, Math.max(...logs) - min)
@@ -231,17 +521,12 @@ function bucketColors (multipliers) {
   })
 }
 
-/** Centred text shrunk to fit `maxWidth` (board units), at least ~7 device px tall. */
-function fitText (ctx, text, x, y, maxWidth, scale, unit) {
-  let size = 11 * unit
-  ctx.font = `700 ${size}px system-ui, sans-serif`
-  const width = ctx.measureText(text).width
-  if (width > maxWidth) size = Math.max(7 / scale, size * maxWidth / width)
-  ctx.font = `700 ${size}px system-ui, sans-serif`
-  ctx.fillStyle = '#1a1030'
-  ctx.textAlign = 'center'
-  ctx.textBaseline = 'middle'
-  ctx.fillText(text, x, y)
+function labelFont (px) {
+  return `700 ${px}px system-ui, sans-serif`
+}
+
+function easeOut (t) {
+  return 1 - (1 - t) * (1 - t)
 }
 
 function roundRect (ctx, x, y, width, height, radius) {

@@ -43,9 +43,26 @@ export function byId (id) {
   return node
 }
 
-/** Play-money amount with thousands separators. @param {number | null | undefined} value */
+const AMOUNT = new Intl.NumberFormat('en-US', { maximumFractionDigits: 3 })
+
+/**
+ * Every play-money amount the pages show (balances, bets, payouts,
+ * profits): thousands grouping and up to 3 decimals (milli-credits), no
+ * trailing zeros: 1234 → "1,234", 1234.5 → "1,234.5", 0.125 → "0.125".
+ * @param {number | null | undefined} value
+ */
 export function formatAmount (value) {
-  return value === null || value === undefined ? '–' : Math.round(value).toLocaleString('en-US')
+  if (value === null || value === undefined || !Number.isFinite(value)) return '–'
+  // Sums of milli-credit amounts carry binary noise (0.1 + 0.2): round to the milli-credit first; never show "-0".
+  const rounded = Math.round(value * 1000) / 1000
+  return AMOUNT.format(rounded === 0 ? 0 : rounded)
+}
+
+/** A profit with its sign: "+1,234.5", "−20", "0". @param {number} value */
+export function formatSigned (value) {
+  const text = formatAmount(Math.abs(value))
+  const rounded = Math.round(value * 1000) / 1000
+  return rounded > 0 ? `+${text}` : rounded < 0 ? `−${text}` : text
 }
 
 /** A multiplier as the bucket labels show it: 18×, 5.5×, 0.26×. @param {number} value */

@@ -28,6 +28,9 @@ export class FairnessPanel {
     this.checks = []
     /** @type {{ previousServerSeed: string, previousServerSeedHash: string, matchesCommitment: boolean } | null} */
     this.lastReveal = null
+    /** @type {{ serverSeed: string, serverSeedHash: string, nonces: number, revealedAt: string, matches: boolean }[] | null} GET /api/seeds' revealed seeds, checked here; null before it answered */
+    this.revealedSeeds = null
+    this.revealedList = byId('revealed-seeds')
 
     this.hashView = byId('seed-hash')
     this.nonceView = byId('seed-nonce')
@@ -89,9 +92,41 @@ export class FairnessPanel {
             : `⚠ sha256 of it is ${shortHex(recomputed)}, NOT the committed ${shortHex(committed ?? reply.previousServerSeedHash)}!`)
       )
       this.onRotated()
+      this.loadSeeds()
     } catch (error) {
       this.say(`Could not rotate the server seed: ${error.message}`, 'error')
     }
+  }
+
+  /**
+   * Lists the player's revealed server seeds (GET /api/seeds: they survive
+   * reloads and new devices), each checked against its commitment here.
+   */
+  async loadSeeds () {
+    let reply
+    try {
+      reply = await this.session.request('GET', '/api/seeds')
+    } catch (error) {
+      this.say(`Could not load your revealed server seeds: ${error.message}`, 'error')
+      return null
+    }
+    const seeds = await Promise.all(reply.revealed.map(async (seed) => ({
+      serverSeed: seed.serverSeed,
+      serverSeedHash: seed.serverSeedHash,
+      nonces: seed.nonces,
+      revealedAt: seed.revealedAt,
+      matches: (await sha256Hex(seed.serverSeed)) === seed.serverSeedHash
+    })))
+    this.revealedSeeds = seeds
+    if (seeds.length === 0) {
+      this.revealedList.replaceChildren(el('li', { class: 'note', text: 'None yet: rotating reveals the active seed.' }))
+      return seeds
+    }
+    this.revealedList.replaceChildren(...seeds.map((seed) => el('li', { dataset: { hash: seed.serverSeedHash } },
+      el('code', { class: 'seed', text: seed.serverSeed }),
+      el('span', { class: seed.matches ? 'ok' : 'bad', text: seed.matches ? ` ✓ sha256 = ${shortHex(seed.serverSeedHash)}` : ` ⚠ sha256 is NOT the committed ${shortHex(seed.serverSeedHash)}` }),
+      el('span', { class: 'note', text: ` · ${seed.nonces} drop${seed.nonces === 1 ? '' : 's'} · revealed ${(seed.revealedAt ?? '').replace('T', ' ').slice(0, 19)}` }))))
+    return seeds
   }
 
   /** Verifies one of the player's drops from its revealed seed. @param {number} dropId */
@@ -118,19 +153,58 @@ export class FairnessPanel {
     return check
   }
 
-  /** Verifies any seeds typed in (no record to compare: shows the outcome). */
+  /**
+   * Verifies any seeds typed in. The computed sha256 of the server seed is
+   * always shown, and compared with the committed hash of the drop being
+   * checked: the one typed in, or else that of the player's own drop with
+   * this client seed and nonce (whose outcome is then compared too, when
+   * the board and engine chosen are the drop's).
+   */
   async verifySeeds () {
-    const serverSeed = byId('seeds-server').value
+    const serverSeed = byId('seeds-server').value.trim()
     const clientSeed = byId('seeds-client').value
     const nonce = Number(byId('seeds-nonce').value)
+    const typedCommitment = byId('seeds-commitment').value.trim().toLowerCase()
     if (serverSeed === '' || !CLIENT_SEED.test(clientSeed) || !Number.isSafeInteger(nonce) || nonce < 0) {
       this.show(null, 'Enter a server seed, a client seed and a nonce (0 or more).')
       return null
     }
-    const check = await checkFairness({ serverSeed, clientSeed, nonce, rows: Number(byId('seeds-rows').value), risk: byId('seeds-risk').value, engineVersion: byId('seeds-engine').value })
+    if (typedCommitment !== '' && !/^[0-9a-f]{64}$/.test(typedCommitment)) {
+      this.show(null, 'A committed hash is 64 hexadecimal digits (or leave it empty to use your drop\'s).')
+      return null
+    }
+    const seeds = { serverSeed, clientSeed, nonce, rows: Number(byId('seeds-rows').value), risk: byId('seeds-risk').value, engineVersion: byId('seeds-engine').value }
+    const computedHash = await sha256Hex(serverSeed)
+    const drop = await this._dropWith(clientSeed, nonce, computedHash)
+    const sameBoard = drop && drop.rows === seeds.rows && drop.risk === seeds.risk && drop.engineVersion === seeds.engineVersion
+    /** @type {Record<string, any>} */
+    const record = { serverSeedHash: typedCommitment || drop?.serverSeedHash }
+    if (drop) {
+      record.id = drop.id
+      record.dropSeed = drop.dropSeed
+      if (sameBoard) Object.assign(record, { bucket: drop.bucket, ticks: drop.ticks, stateHash: drop.stateHash })
+    }
+    const check = await checkFairness(seeds, record)
+    check.committedHash = record.serverSeedHash ?? null
+    check.committedFrom = typedCommitment ? 'typed' : drop ? `drop #${drop.id}` : null
     this.checks.push(check)
-    this.show(check, `Seeds ${shortHex(serverSeed, 6)} / ${clientSeed} / ${nonce}`)
+    this.show(check, drop ? `Seeds of drop #${drop.id}` : `Seeds ${shortHex(serverSeed, 6)} / ${clientSeed} / ${nonce}`)
     return check
+  }
+
+  /**
+   * The player's drop with this client seed and nonce (nonces restart at 0
+   * with each server seed, so several may match: the one this server seed
+   * committed to, else the newest), or null.
+   */
+  async _dropWith (clientSeed, nonce, computedHash) {
+    try {
+      const { drops } = await this.session.request('GET', '/api/drops?limit=500')
+      const matching = drops.filter((d) => d.clientSeed === clientSeed && d.nonce === nonce)
+      return matching.find((d) => d.serverSeedHash === computedHash) ?? matching[0] ?? null
+    } catch {
+      return null
+    }
   }
 
   /** @param {import('./fair-check.js').FairCheck | null} check @param {string} title */
@@ -143,8 +217,17 @@ export class FairnessPanel {
     const items = Object.entries(check.checks)
       .filter(([, ok]) => ok !== null)
       .map(([name, ok]) => el('li', { class: ok ? 'ok' : 'bad', text: `${ok ? '✓' : '✗'} ${names[name]}` }))
+    const committed = check.committedHash === undefined ? null : check.committedHash
     fill(this.result,
       el('p', { class: check.ok ? 'verdict ok' : 'verdict bad', id: 'verify-verdict', text: `${title}: ${check.ok ? (items.length ? 'verified in your browser' : 'computed') : 'DOES NOT MATCH'}` }),
+      check.committedHash !== undefined
+        ? el('div', { class: 'hash-compare', id: 'verify-hashes' },
+          el('p', {}, 'sha256 of the server seed entered: ', el('code', { class: 'seed', id: 'verify-computed-hash', text: check.serverSeedHash })),
+          committed
+            ? el('p', {}, `committed hash (${check.committedFrom}): `, el('code', { class: 'seed', id: 'verify-committed-hash', text: committed }),
+              el('strong', { class: committed === check.serverSeedHash ? 'ok' : 'bad', id: 'verify-hash-verdict', text: committed === check.serverSeedHash ? ' ✓ equal' : ' ✗ DIFFERENT: this is not the server seed that was committed' }))
+            : el('p', { class: 'note', id: 'verify-hash-verdict', text: 'No committed hash to compare with: none was entered and none of your drops has this client seed and nonce.' }))
+        : null,
       items.length ? el('ul', { class: 'checks' }, ...items) : null,
       el('p', { class: 'note', text: `engine ${check.engineVersion}: bucket ${check.bucket} (${check.multiplier}×) after ${check.ticks} ticks, state ${check.stateHash}; drop seed ${shortHex(check.dropSeed)}` })
     )

@@ -19,10 +19,12 @@ export class HistoryView {
   /**
    * @param {HTMLTableSectionElement} body the table's tbody
    * @param {(dropId: number) => void} onVerify asks the fairness panel to verify a drop
+   * @param {(dropId: number) => void} [onRecall] replays a drop (game recall)
    */
-  constructor (body, onVerify) {
+  constructor (body, onVerify, onRecall = () => {}) {
     this.body = body
     this.onVerify = onVerify
+    this.onRecall = onRecall
     /** @type {Map<number, { entry: HistoryEntry, row: HTMLTableRowElement }>} */
     this.rows = new Map()
   }
@@ -79,24 +81,26 @@ export class HistoryView {
     const mark = entry.verified === true
       ? el('span', { class: 'mark ok', title: 'bucket, ticks and final state hash match the local simulation', text: '✓', 'aria-label': 'verified' })
       : entry.verified === false
-        ? el('span', { class: 'mark bad', title: 'the local simulation disagrees with the server', text: '⚠ MISMATCH' })
+        ? el('span', { class: 'mark bad', title: 'MISMATCH: the local simulation disagrees with the server', text: '⚠ mismatch' })
         : el('span', { class: 'mark wait', text: settled ? '…' : 'in flight' })
     row.className = entry.verified === false ? 'bad' : ''
     row.replaceChildren(
       el('td', { text: `#${entry.dropId}` }),
-      el('td', { class: 'room', title: entry.room, text: shortRoom(entry.room) }),
+      el('td', { class: 'room', title: entry.room, text: roomLabel(entry.room) }),
       el('td', { class: 'num', text: formatAmount(entry.bet) }),
       el('td', { class: 'num', text: entry.multiplier === null ? '–' : formatMultiplier(entry.multiplier) }),
       el('td', { class: `num ${net === null ? '' : net >= 0 ? 'win' : 'loss'}`, text: settled ? formatAmount(entry.payout) : '–' }),
-      el('td', {}, mark, entry.revealed
-        ? el('button', { class: 'small', type: 'button', text: 'verify', title: 'recompute this drop from the revealed server seed', onclick: () => this.onVerify(entry.dropId) })
-        : null)
+      el('td', { class: 'check' }, mark,
+        entry.revealed
+          ? el('button', { class: 'small verify-button', type: 'button', text: 'verify', title: 'recompute this drop from the revealed server seed', onclick: () => this.onVerify(entry.dropId) })
+          : null,
+        settled ? el('button', { class: 'small recall-button', type: 'button', text: '▶', title: 'replay this drop from its seed (game recall)', 'aria-label': `replay drop ${entry.dropId}`, onclick: () => this.onRecall(entry.dropId) }) : null)
     )
   }
 }
 
-/** "16-medium" → "16 med": the sidebar is narrow. @param {string} room */
-function shortRoom (room) {
-  const [rows, risk] = room.split('-')
-  return risk ? `${rows} ${risk.slice(0, 3)}` : room
+/** "16-medium" → "16 medium", "16-high.2" → "16 high ·2": whole words (the cell wraps rather than cuts). @param {string} room */
+function roomLabel (room) {
+  const match = /^(\d+)-(\w+)(?:\.(\d+))?$/.exec(room)
+  return match ? `${match[1]} ${match[2]}${match[3] ? ` ·${match[3]}` : ''}` : room
 }

@@ -1,5 +1,6 @@
 import { ENGINE_VERSION, isEngineVersion } from '/engine/index.js'
-import { byId, el, formatAmount, shortHex } from './dom.js'
+import { apiRequest } from './api.js'
+import { byId, el, formatAmount, formatSigned, shortHex } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
 import { decodeSnapshot, splitRoomFrame } from '/protocol/snapshot-codec.js'
@@ -8,14 +9,26 @@ import { socketUrl } from './socket-url.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { DropVerifier } from './drop-verifier.js'
-import { BoardRenderer } from './board-renderer.js'
+import { BoardRenderer, bucketColors } from './board-renderer.js'
 import { HistoryView } from './history-view.js'
 import { FairnessPanel } from './fairness-panel.js'
+import { pegRowCount } from './peg-contacts.js'
+import { Sound } from './sound.js'
+import { AutoBet, clampBet } from './auto-bet.js'
+import { SessionStats } from './session-stats.js'
+import { LiveFeed, BIG_WIN } from './live-feed.js'
+import { ResultsStrip } from './results-strip.js'
+import { RecallView } from './recall-view.js'
 
 /**
  * The player's page: connects with the guest session, joins the chosen
  * room, renders every ball in it from the snapshots, and verifies every
- * drop against its own simulation. State for tests is on window.__plinko.
+ * drop against its own simulation. Everything the board shows happening —
+ * peg glows and ticks, bucket bounces, payouts, big-win bursts — comes
+ * from that simulation, at the moment the render clock reaches it; a
+ * drop's result (the strip, the feed, the session stats, the floating
+ * payout) is revealed once its ball has landed on screen and the server
+ * has settled it. State for tests is on window.__plinko.
  */
 
 const ROOM_KEY = 'plinko.room'
@@ -23,12 +36,23 @@ const BET_KEY = 'plinko.bet'
 const AUTO_DROP_EVERY_MS = 250
 /** E_WRONG_NODE redirects followed in a row without a join; past this the page stops and says so. */
 const MAX_REDIRECTS = 3
+/** A floating "+payout" for own wins of this multiple or more (BIG_WIN and up: the big celebration). */
+const FLOAT_WIN = 2
+/** How often the room's player count is asked for (GET /api/rooms). */
+const PLAYERS_EVERY_MS = 4000
 
 const session = new Session()
 const verifier = new DropVerifier()
 const renderer = new BoardRenderer(byId('board'))
-const history = new HistoryView(byId('history'), (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: 'smooth' })))
+const history = new HistoryView(byId('history'),
+  (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: 'smooth' })),
+  (dropId) => recall.open(dropId))
 const fairness = new FairnessPanel({ session, onRotated: () => loadHistory(), say })
+const recall = new RecallView({ session, verifier })
+const sound = new Sound()
+const stats = new SessionStats({ wagered: byId('stat-wagered'), profit: byId('stat-profit'), drops: byId('stat-drops'), best: byId('stat-best'), chart: byId('profit-chart') })
+const feed = new LiveFeed(byId('feed'))
+const recent = new ResultsStrip(byId('recent'))
 const snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 }
 
 const state = {
@@ -47,7 +71,21 @@ const state = {
   /** @type {SnapshotTimeline | null} */
   timeline: null,
   refs: 0,
-  auto: { remaining: 0, timer: null },
+  /** @type {AutoBet | null} the running (or last) auto-bet run */
+  autoRun: null,
+  autoTimer: null,
+  /** @type {Map<number, any>} own `settled` messages whose ball has not landed on screen yet */
+  settledUnseen: new Map(),
+  /** @type {Set<number>} own drops announced to this page (results revealed once each) */
+  ownDrops: new Set(),
+  revealed: new Set(),
+  feedRoom: null,
+  players: null,
+  playersTimer: null,
+  /** balls drawn in the last frame: all, and those no announcement explains */
+  lastFrame: { balls: 0, unknown: 0, mine: 0 },
+  /** performance.now() of the first frame with the board drawn */
+  firstBoardFrameAt: null,
   status: 'connecting',
   warnings: [],
   /** @type {{ now: number, tick: number, balls: number, deviation: number, a: number | null, b: number | null }[] | null} per-frame record, when tracing */
@@ -61,6 +99,7 @@ const socket = new GameSocket({
   onStatus: showStatus,
   onClose (code) {
     state.joinedRoom = null
+    if (state.autoRun?.running) stopAuto('disconnected')
     if (code !== CLOSE_UNAUTHORIZED) return true
     // The server no longer knows this session (a new database): start a new one.
     session.renew().then(() => {
@@ -109,7 +148,7 @@ function onJoined (message) {
     warn(`The server's board for room ${message.room} differs from the one this page's engine builds: outcomes shown here may not match.`)
   }
   state.joinedRoom = message.room
-  state.view = new RoomView({ room: message.room, board, snapshotChecks })
+  state.view = new RoomView({ room: message.room, board, snapshotChecks, snapshotEvery: message.snapshotEvery })
   state.timeline = new SnapshotTimeline({ tickRate: message.tickRate, snapshotEvery: message.snapshotEvery })
   state.timeline.observe(message.tick, performance.now())
   renderer.setBoard(board)
@@ -120,7 +159,14 @@ function onJoined (message) {
   }
   // Other players' drops that were announced before and are not here any more: their settlements will not reach us.
   verifier.forget((local) => !local.mine && !inRoom.has(local.dropId))
+  // Own results waiting for a landing this new view will not show: reveal them now.
+  for (const [dropId, settled] of state.settledUnseen) if (!state.view.drops.has(dropId)) reveal(settled, false)
+  if (state.feedRoom !== message.room) feed.clear()
+  state.feedRoom = message.room
+  byId('room-name').textContent = message.room
+  refreshPlayers()
   say(`Joined room ${message.room}.`)
+  if (state.autoRun && state.autoRun.stopReason === 'disconnected') showAutoStatus()
 }
 
 function onDropped (message) {
@@ -128,6 +174,8 @@ function onDropped (message) {
   if (message.room === state.joinedRoom || mine) track(message)
   if (!mine) return
   setBalance(message.balance)
+  state.ownDrops.add(message.dropId)
+  if (typeof message.ref === 'string' && state.autoRun?.refs.has(message.ref)) state.autoRun.dropIds.add(message.dropId)
   fairness.update({ nonce: message.nonce + 1 })
   const committed = fairness.state.serverSeedHash
   if (committed && message.serverSeedHash !== committed) {
@@ -139,8 +187,17 @@ function onDropped (message) {
 function onSettled (message) {
   const verification = verifier.settle(message)
   if (verification && !verification.verified) warnMismatch(verification)
+  const local = message.room === state.joinedRoom ? state.view?.drops.get(message.dropId) : undefined
+  if (message.room === state.joinedRoom) {
+    // Shown in the feed when its ball lands on screen (or now, if it is not on this board).
+    if (local && !local.landingShown) local.settled = message
+    else addToFeed(message)
+  }
   if (message.player !== state.playerId) return
   setBalance(message.balance)
+  onAutoResult(message)
+  if (local && !local.landingShown) state.settledUnseen.set(message.dropId, message)
+  else reveal(message, false)
   history.upsert(message.dropId, {
     room: message.room,
     bet: message.bet,
@@ -154,14 +211,59 @@ function onSettled (message) {
 function onError (message) {
   if (message.code === 'E_WRONG_NODE') return followRedirect(message)
   say(`${message.code}: ${message.message}`, 'error')
-  if (typeof message.ref !== 'string' || !message.ref.startsWith('auto-') || state.auto.timer === null) return
+  const run = state.autoRun
+  if (typeof message.ref !== 'string' || !run || !run.refs.has(message.ref)) return
   // A refused auto-drop: try that ball again later, or stop when retrying cannot help.
-  if (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL') {
-    state.auto.remaining++
+  if (run.running && (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL')) {
+    run.retry()
     renderAutoButton()
   } else {
-    stopAuto()
+    stopAuto(message.code === 'E_INSUFFICIENT_FUNDS' ? 'balance' : 'refused', message.code)
   }
+}
+
+// ---- results: revealed when the ball has landed on screen and the server settled it
+
+/**
+ * One of the player's results, shown everywhere at once: the strip above
+ * the board, the session stats and (for a win of FLOAT_WIN× or more) the
+ * floating payout; BIG_WIN× and more get the celebration.
+ * @param {any} settled @param {boolean} live the ball just landed on screen (else: effects skipped)
+ */
+function reveal (settled, live) {
+  if (state.revealed.has(settled.dropId) || !state.ownDrops.has(settled.dropId)) return
+  state.revealed.add(settled.dropId)
+  state.settledUnseen.delete(settled.dropId)
+  const parsed = parseRoomId(settled.room)
+  const engineVersion = state.view?.drops.get(settled.dropId)?.engineVersion
+  const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
+  const colors = board ? bucketColors(board.multipliers) : []
+  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf' })
+  stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
+  if (!live || settled.room !== state.joinedRoom) return
+  const now = performance.now()
+  if (settled.multiplier >= FLOAT_WIN) renderer.floatText(settled.bucket, `+${formatAmount(settled.payout)}`, now, { big: settled.multiplier >= BIG_WIN })
+  if (settled.multiplier >= BIG_WIN) renderer.celebrate(settled.bucket, now)
+}
+
+function addToFeed (settled) {
+  feed.add({ dropId: settled.dropId, player: settled.player, mine: settled.player === state.playerId, bet: settled.bet, multiplier: settled.multiplier, payout: settled.payout })
+}
+
+/** The room's player count (GET /api/rooms), refreshed while in the room. */
+async function refreshPlayers () {
+  clearTimeout(state.playersTimer)
+  const room = state.joinedRoom
+  if (!room) return
+  try {
+    const { rooms } = await apiRequest('GET', '/api/rooms')
+    const here = rooms.find((r) => r.id === room)
+    if (room === state.joinedRoom) {
+      state.players = here ? here.players : null
+      byId('room-players').textContent = state.players === null ? '– players' : `${state.players} player${state.players === 1 ? '' : 's'}`
+    }
+  } catch {}
+  if (room === state.joinedRoom) state.playersTimer = setTimeout(refreshPlayers, PLAYERS_EVERY_MS)
 }
 
 function handleSnapshot (frame, receivedAt) {
@@ -225,9 +327,30 @@ function join (roomId) {
   socket.send({ type: 'join', room: roomId, ref: 'join' })
 }
 
-/** @param {string} [ref] */
-function drop (ref = `drop-${++state.refs}`) {
-  const bet = Number(byId('bet').value)
+/**
+ * A board change from the controls: refused (the selects put back) while
+ * the player's own balls are still falling or an auto-bet runs, so no
+ * ball of theirs ever vanishes from the board.
+ */
+function changeBoard (rows, risk) {
+  const inFlight = state.view ? state.view.ownInFlight : 0
+  const current = parseRoomId(state.roomId)
+  const autoRunning = Boolean(state.autoRun?.running && state.autoTimer !== null)
+  if (inFlight > 0 || autoRunning) {
+    byId('rows').value = String(current.rows)
+    byId('risk').value = current.risk
+    say(autoRunning
+      ? 'Stop the auto-bet before changing the board.'
+      : `Wait for your ${inFlight} ball${inFlight === 1 ? '' : 's'} in flight to land before changing the board.`, 'error')
+    return false
+  }
+  join(roomIdOf(rows, risk))
+  return true
+}
+
+/** @param {string} [ref] @param {number} [betOverride] the auto-bet's bet */
+function drop (ref = `drop-${++state.refs}`, betOverride) {
+  const bet = betOverride ?? Number(byId('bet').value)
   if (!Number.isSafeInteger(bet) || bet < state.minBet || bet > state.maxBet) {
     say(`The bet must be a whole number from ${state.minBet} to ${formatAmount(state.maxBet)}.`, 'error')
     return false
@@ -240,39 +363,135 @@ function drop (ref = `drop-${++state.refs}`) {
     say('Not connected: the drop was not sent.', 'error')
     return false
   }
-  localStorage.setItem(BET_KEY, String(bet))
+  if (betOverride === undefined) localStorage.setItem(BET_KEY, String(bet))
   return true
 }
 
-function startAuto () {
+/** Reads the auto-bet form; undefined (and a message) when something is off. */
+function autoRules () {
   const count = Number(byId('auto-count').value)
-  if (!Number.isSafeInteger(count) || count < 1) {
-    say('Auto-drop needs a number of balls.', 'error')
-    return
+  const baseBet = Number(byId('bet').value)
+  const optional = (id) => {
+    const text = byId(id).value.trim()
+    return text === '' || Number(text) === 0 ? null : Number(text)
   }
-  state.auto.remaining = count
-  const tickAuto = () => {
-    if (state.auto.remaining <= 0) return stopAuto()
-    if (drop(`auto-${++state.refs}`)) state.auto.remaining--
-    else return stopAuto()
-    renderAutoButton()
-  }
-  state.auto.timer = setInterval(tickAuto, AUTO_DROP_EVERY_MS)
-  tickAuto()
+  const stopProfit = optional('auto-stop-profit')
+  const stopLoss = optional('auto-stop-loss')
+  const rule = (modeId, percentId) => ({ mode: byId(modeId).value === 'increase' ? 'increase' : 'reset', percent: Number(byId(percentId).value) || 0 })
+  const rules = { count, baseBet, stopProfit, stopLoss, onWin: rule('auto-on-win', 'auto-win-percent'), onLoss: rule('auto-on-loss', 'auto-loss-percent') }
+  if (!Number.isSafeInteger(count) || count < 1) return say('Auto-bet needs a number of bets (1 or more).', 'error')
+  if (!Number.isSafeInteger(baseBet) || baseBet < state.minBet || baseBet > state.maxBet) return say(`The bet must be a whole number from ${state.minBet} to ${formatAmount(state.maxBet)}.`, 'error')
+  for (const limit of [stopProfit, stopLoss]) if (limit !== null && !(limit > 0)) return say('Stop on profit and stop on loss are amounts above 0 (or empty: off).', 'error')
+  for (const r of [rules.onWin, rules.onLoss]) if (!(r.percent >= 0 && r.percent <= 1000)) return say('Increase by 0 to 1000 %.', 'error')
+  return rules
 }
 
-function stopAuto () {
-  clearInterval(state.auto.timer)
-  state.auto.timer = null
-  state.auto.remaining = 0
+function startAuto () {
+  const rules = autoRules()
+  if (!rules) return
+  if (!state.joinedRoom) return say('Not connected: auto-bet did not start.', 'error')
+  state.autoRun = new AutoBet(rules, { minBet: state.minBet, maxBet: state.maxBet })
+  runAuto()
+}
+
+/** Continues a run stopped by a lost connection, with the bets it had left. */
+function resumeAuto () {
+  const run = state.autoRun
+  if (!run || run.stopReason !== 'disconnected' || run.remaining <= 0) return
+  if (!state.joinedRoom) return say('Still not connected: the auto-bet can resume once the page is back in its room.', 'error')
+  run.stopReason = null
+  say(`Auto-bet resumed: ${run.remaining} bets left.`)
+  runAuto()
+}
+
+function runAuto () {
+  const run = state.autoRun
+  const tick = () => {
+    if (!run.running) return stopAuto(run.stopReason)
+    const bet = run.nextBet(state.balance)
+    if (bet === null) return stopAuto('balance')
+    const ref = `auto-${++state.refs}`
+    if (!drop(ref, bet)) return stopAuto(state.joinedRoom ? 'refused' : 'disconnected')
+    run.markSent(ref)
+    renderAutoButton()
+    if (!run.running) stopAuto(run.stopReason)
+    else showAutoStatus()
+  }
+  clearInterval(state.autoTimer)
+  state.autoTimer = setInterval(tick, AUTO_DROP_EVERY_MS)
+  tick()
+}
+
+/** A settled drop of the auto-bet: its bet for the next drop, and its stop rules. */
+function onAutoResult (settled) {
+  const run = state.autoRun
+  if (!run || !run.dropIds.has(settled.dropId)) return
+  const stopped = run.result({ bet: settled.bet, payout: settled.payout })
+  if (stopped) stopAuto(stopped)
+  else showAutoStatus()
+}
+
+/** @param {AutoBet['stopReason']} reason @param {string} [detail] */
+function stopAuto (reason = 'stopped', detail) {
+  clearInterval(state.autoTimer)
+  state.autoTimer = null
+  const run = state.autoRun
+  if (run) {
+    run.stop(reason)
+    if (detail) run.detail = detail
+    if (run.stopReason !== 'done') say(AUTO_STOPS[run.stopReason](run), 'error')
+  }
   renderAutoButton()
+  showAutoStatus()
+}
+
+const AUTO_STOPS = {
+  done: (run) => `Auto-bet finished: ${run.sent} bets sent, profit ${formatSigned(run.profit)} so far.`,
+  profit: (run) => `Auto-bet stopped: the profit of ${formatSigned(run.profit)} reached the stop on profit.`,
+  loss: (run) => `Auto-bet stopped: the loss of ${formatAmount(-run.profit)} reached the stop on loss.`,
+  balance: () => 'Auto-bet stopped: the balance does not cover the bet.',
+  disconnected: (run) => `Auto-bet stopped: the connection was lost after ${run.sent} of ${run.rules.count} bets.`,
+  refused: (run) => `Auto-bet stopped: a drop was refused${run.detail ? ` (${run.detail})` : ''}.`,
+  stopped: (run) => `Auto-bet stopped after ${run.sent} of ${run.rules.count} bets.`
+}
+
+function showAutoStatus () {
+  const run = state.autoRun
+  const box = byId('auto-status')
+  if (!run) { box.hidden = true; return }
+  box.hidden = false
+  box.dataset.state = run.running ? 'running' : run.stopReason
+  byId('auto-status-text').textContent = run.running
+    ? `Auto-bet: ${run.sent} of ${run.rules.count} sent, next bet ${formatAmount(run.bet)}, profit ${formatSigned(run.profit)}.`
+    : AUTO_STOPS[run.stopReason](run)
+  const resumable = run.stopReason === 'disconnected' && run.remaining > 0
+  const resume = byId('auto-resume')
+  resume.hidden = !resumable
+  resume.disabled = !state.joinedRoom
+  resume.textContent = state.joinedRoom ? `Resume (${run.remaining} left)` : `Resume (${run.remaining} left) once reconnected`
 }
 
 function renderAutoButton () {
   const button = byId('auto')
-  const running = state.auto.timer !== null
-  button.textContent = running ? `Stop (${state.auto.remaining})` : 'Auto'
+  const run = state.autoRun
+  const running = Boolean(run?.running && state.autoTimer !== null)
+  button.replaceChildren(running ? `Stop (${run.remaining})` : 'Auto', ' ', el('kbd', { class: 'key-hint', text: 'A' }))
   button.classList.toggle('running', running)
+}
+
+function toggleAuto () {
+  if (state.autoRun?.running && state.autoTimer !== null) stopAuto('stopped')
+  else startAuto()
+}
+
+/** ½ and 2×: within MIN_BET, MAX_BET and the balance. @param {'half' | 'double'} how */
+function changeBet (how) {
+  const input = byId('bet')
+  const value = Number(input.value) || state.minBet
+  const next = how === 'half' ? Math.floor(value / 2) : value * 2
+  const clamped = clampBet(next, { minBet: state.minBet, maxBet: state.maxBet }, state.balance)
+  input.value = String(clamped ?? state.minBet)
+  if (how === 'double' && clamped !== null && clamped < next) say(`The bet is capped at ${formatAmount(clamped)} (${clamped === state.maxBet ? 'the table limit' : 'your balance'}).`)
 }
 
 async function loadHistory () {
@@ -280,6 +499,10 @@ async function loadHistory () {
   try {
     const { drops } = await session.request('GET', '/api/drops?limit=50')
     for (const record of drops.slice().reverse()) {
+      // Settled while this page was away (a reconnect): its result is final, and shown now.
+      if (record.status === 'settled' && state.ownDrops.has(record.id) && !state.revealed.has(record.id) && !state.view?.drops.has(record.id)) {
+        reveal({ dropId: record.id, room: record.room, bet: record.bet, multiplier: record.multiplier, payout: record.payout, bucket: record.bucket }, false)
+      }
       const verification = verifier.settleFromRecord(record)
       if (verification && !verification.verified) warnMismatch(verification)
       history.upsert(record.id, {
@@ -335,9 +558,12 @@ function updateSummary () {
 
 function showStatus (status, detail) {
   state.status = status
+  if (status !== 'open' && state.autoRun?.running) stopAuto('disconnected')
+  if (state.autoRun) showAutoStatus()
   const pill = byId('connection')
   pill.dataset.status = status
-  pill.textContent = status === 'open'
+  pill.title = status
+  byId('connection-text').textContent = status === 'open'
     ? 'online'
     : status === 'waiting'
       ? `reconnecting in ${(detail.retryInMs / 1000).toFixed(1)} s`
@@ -369,17 +595,40 @@ function frame (now) {
         state.trace.push({ now, tick, balls: poses.length, deviation, a: a ? a.tick : null, b: b ? b.tick : null })
       }
     }
-    for (const landing of view.landings) renderer.flash(landing.bucket, landing.mine, now)
+    let mine = 0
+    for (const pose of poses) if (pose.mine) mine++
+    state.lastFrame = { balls: poses.length, unknown: view.unknownDrawn, mine }
+    const rows = pegRowCount(view.board)
+    for (const hit of view.pegHits) {
+      renderer.glowPeg(hit.peg, hit.mine, now)
+      sound.pegTick(hit.row, rows, hit.mine)
+    }
+    view.pegHits.length = 0
+    for (const landing of view.landings) onLanding(landing, now)
     view.landings.length = 0
   }
   // Nothing moves: keep the last frame.
-  if (poses.length === 0 && renderer.flashes.length === 0 && !renderer.needsDraw) {
+  if (poses.length === 0 && !renderer.busy && !renderer.needsDraw) {
     if (idleDrawn) return
     idleDrawn = true
   } else {
     idleDrawn = false
   }
   renderer.draw(poses, now)
+  if (state.firstBoardFrameAt === null && renderer.frames > 0) state.firstBoardFrameAt = performance.now()
+}
+
+/** A ball reached its bucket on screen (the local simulation's landing). */
+function onLanding (landing, now) {
+  const drop = landing.drop
+  const multiplier = state.view.board.multipliers[landing.bucket]
+  if (!landing.stale) {
+    renderer.flash(landing.bucket, landing.mine, now)
+    sound.landing(multiplier, landing.mine)
+  }
+  if (drop.settled) addToFeed(drop.settled)
+  const settled = state.settledUnseen.get(landing.dropId)
+  if (settled) reveal(settled, !landing.stale)
 }
 
 // ---- set-up -------------------------------------------------------------
@@ -402,36 +651,56 @@ function setUpControls () {
   const riskSelect = byId('risk')
   for (const r of ROWS) rowsSelect.append(el('option', { value: String(r), text: String(r), selected: r === rows }))
   for (const k of RISKS) riskSelect.append(el('option', { value: k, text: k, selected: k === risk }))
-  const onRoom = () => join(roomIdOf(Number(rowsSelect.value), riskSelect.value))
+  const onRoom = () => changeBoard(Number(rowsSelect.value), riskSelect.value)
   rowsSelect.addEventListener('change', onRoom)
   riskSelect.addEventListener('change', onRoom)
 
   const bet = byId('bet')
   bet.value = localStorage.getItem(BET_KEY) ?? '10'
   for (const button of document.querySelectorAll('[data-bet]')) {
-    button.addEventListener('click', () => {
-      const value = Number(bet.value) || state.minBet
-      const next = button.dataset.bet === 'half' ? Math.floor(value / 2) : value * 2
-      bet.value = String(Math.max(state.minBet, Math.min(state.maxBet, next)))
-    })
+    button.addEventListener('click', () => changeBet(button.dataset.bet))
   }
   byId('drop').addEventListener('click', () => drop())
   byId('board').addEventListener('click', () => drop())
-  byId('auto').addEventListener('click', () => (state.auto.timer ? stopAuto() : startAuto()))
+  byId('auto').addEventListener('click', toggleAuto)
+  byId('auto-resume').addEventListener('click', resumeAuto)
+  byId('session-reset').addEventListener('click', () => stats.reset())
+  const mute = byId('mute')
+  const showMute = () => {
+    mute.setAttribute('aria-pressed', String(sound.muted))
+    mute.setAttribute('aria-label', sound.muted ? 'Unmute sound' : 'Mute sound')
+    mute.title = sound.muted ? 'Sound off (M)' : 'Sound on (M)'
+  }
+  const toggleMute = () => { sound.setMuted(!sound.muted); showMute() }
+  mute.addEventListener('click', toggleMute)
+  showMute()
 
+  // Keys: Space drops (also from the bet field: a number field types no space),
+  // S halves, D doubles, A starts or stops the auto-bet, M mutes; none while typing text.
+  const keys = {
+    Space: () => drop(),
+    KeyS: () => changeBet('half'),
+    KeyD: () => changeBet('double'),
+    KeyA: toggleAuto,
+    KeyM: toggleMute
+  }
   document.addEventListener('keydown', (event) => {
-    if (event.code !== 'Space' || isTyping(event.target)) return
+    const action = keys[event.code]
+    if (!action || event.ctrlKey || event.metaKey || event.altKey || isTyping(event.target) || recall.isOpen) return
     event.preventDefault()
-    if (!event.repeat) drop()
+    if (!event.repeat) action()
   })
   // Space on a focused button would click it as well: the keydown above already dropped.
   document.addEventListener('keyup', (event) => {
-    if (event.code === 'Space' && !isTyping(event.target)) event.preventDefault()
+    if (event.code === 'Space' && !isTyping(event.target) && !recall.isOpen) event.preventDefault()
   })
 }
 
+/** Typing text (where Space and letters are the user's): text fields, text areas, selects, editable content. */
 function isTyping (target) {
-  return target instanceof HTMLElement && (target.isContentEditable || ['INPUT', 'TEXTAREA', 'SELECT'].includes(target.tagName))
+  if (!(target instanceof HTMLElement)) return false
+  if (target.isContentEditable || target.tagName === 'TEXTAREA' || target.tagName === 'SELECT') return true
+  return target.tagName === 'INPUT' && !['number', 'range', 'checkbox', 'radio', 'button', 'submit'].includes(/** @type {HTMLInputElement} */ (target).type)
 }
 
 /** What tests (and curious players) can read. */
@@ -449,10 +718,27 @@ window.__plinko = {
   get history () { return history.entries },
   get fairnessChecks () { return fairness.checks.map((c) => ({ ...c })) },
   get lastReveal () { return fairness.lastReveal },
+  get revealedSeeds () { return fairness.revealedSeeds },
   get snapshotChecks () { return { ...snapshotChecks } },
   get timeline () { return state.timeline ? { ...state.timeline.stats, delayMs: state.timeline.delayMs, jitterMs: state.timeline.jitterMs, ticksPerSecond: state.timeline.rate * 1000 } : null },
   get frames () { return renderer.frames },
   get warnings () { return state.warnings.slice() },
+  /** balls drawn in the last frame, and how many of them no announcement explains */
+  get lastFrame () { return { ...state.lastFrame } },
+  get ownInFlight () { return state.view ? state.view.ownInFlight : 0 },
+  get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice() } },
+  get labels () { return renderer.labels.map((l) => ({ ...l })) },
+  get sound () { return { muted: sound.muted, unlocked: sound.unlocked, state: sound.context ? sound.context.state : null, ...sound.played } },
+  get recent () { return recent.entries.map((e) => ({ ...e })) },
+  get feed () { return feed.entries.map((e) => ({ ...e })) },
+  get players () { return state.players },
+  get session () { return stats.summary },
+  get auto () {
+    const run = state.autoRun
+    return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null
+  },
+  get recall () { return recall.state },
+  get firstBoardFrameAt () { return state.firstBoardFrameAt },
   engineVersion: ENGINE_VERSION,
   drop: () => drop(),
   join: (roomId) => join(roomId),
@@ -466,6 +752,10 @@ function main () {
   setUpControls()
   renderAutoButton()
   updateSummary()
+  // The board of the room about to be joined, drawn at once: its space is
+  // reserved from the first frame, and nothing moves when the room answers.
+  const { rows, risk } = parseRoomId(state.roomId)
+  renderer.setBoard(verifier.board(rows, risk))
   requestAnimationFrame(frame)
   setInterval(updateFooter, 1000)
   connect()
@@ -483,7 +773,7 @@ async function connect () {
     setTimeout(connect, 3000)
     return
   }
-  await loadHistory()
+  await Promise.all([loadHistory(), fairness.loadSeeds()])
   socket.start()
 }
 

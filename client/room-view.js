@@ -15,7 +15,12 @@
  * simulated path, which is where the server has it too: nothing freezes
  * or jumps. A snapshot slot is matched to its drop by tick: a slot is
  * reused once its ball has landed, and the local simulation says when.
+ *
+ * The view also reports what the simulation says happened since the last
+ * frame — peg contacts (for glows and ticks) and landings — so every
+ * effect the page draws is one the simulation had.
  */
+import { pegContacts } from './peg-contacts.js'
 
 /** A landed ball stays visible in its bucket this many ticks, fading out. */
 export const LANDED_LINGER_TICKS = 36
@@ -23,6 +28,15 @@ export const LANDED_LINGER_TICKS = 36
 export const BUCKET_REST_DEPTH = 8 / 36
 /** Positions in snapshots are rounded to 0.5 px: at most 0.25 px off. */
 const SNAPSHOT_TOLERANCE_PX = 0.25 + 1e-6
+/**
+ * A ball in a snapshot that no announced drop explains is drawn only while
+ * that snapshot is this recent (in snapshot intervals): with the server
+ * down, the last snapshot's entries must not stay on the board as frozen
+ * "ghosts" once the real balls have landed.
+ */
+const UNKNOWN_BALL_HOLD = 1.5
+/** Contacts and landings this many ticks older than the render tick are not reported (a drop joined mid-flight). */
+const STALE_EVENT_TICKS = 4
 
 /**
  * @typedef {object} BallPose
@@ -30,6 +44,13 @@ const SNAPSHOT_TOLERANCE_PX = 0.25 + 1e-6
  * @property {boolean} mine @property {number} alpha opacity 0..1
  * @property {number} dropId (-1: a ball the page has no announcement for)
  * @property {number} deviation px between this position and the local simulation's at the same tick
+ * @property {Float64Array | null} [trajectory] the simulated path (for the trail), with
+ * @property {number} [age] ticks since release, and @property {number} [ox] @property {number} [oy] the offset drawn from it
+ */
+
+/**
+ * @typedef {object} PegHit a peg contact of the simulation, reached by the render clock
+ * @property {number} peg @property {number} row @property {boolean} mine
  */
 
 export class RoomView {
@@ -39,7 +60,7 @@ export class RoomView {
    * @param {import('/engine/board.js').Board} options.board
    * @param {{ positions: number, mismatches: number, unknown: number }} [options.snapshotChecks] counters to add to (shared across rooms)
    */
-  constructor ({ room, board, snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 } }) {
+  constructor ({ room, board, snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 }, snapshotEvery = 3 }) {
     this.room = room
     this.board = board
     /** @type {Map<number, import('./drop-verifier.js').LocalDrop>} */
@@ -48,14 +69,38 @@ export class RoomView {
     this._bySlot = new Map()
     /** Every snapshot position compared with the local simulation. */
     this.snapshotChecks = snapshotChecks
-    /** @type {{ bucket: number, mine: boolean }[]} landings not yet shown (the caller empties it), for bucket flashes */
+    /**
+     * Landings not yet shown (the caller empties it); `stale`: it happened
+     * well before this frame (a hidden tab, a drop joined late): record it, skip its effects.
+     * @type {{ bucket: number, mine: boolean, dropId: number, drop: import('./drop-verifier.js').LocalDrop, stale: boolean }[]}
+     */
     this.landings = []
+    /** @type {PegHit[]} peg contacts reached since the last frame (the caller empties it) */
+    this.pegHits = []
+    this.snapshotEvery = snapshotEvery
+    /** Balls drawn in the last frame that no announcement explains. */
+    this.unknownDrawn = 0
+    /** The last render tick posesAt was asked for. */
+    this.lastTick = null
     this._poses = []
+  }
+
+  /** The player's own balls not landed yet at the last rendered tick. */
+  get ownInFlight () {
+    let count = 0
+    for (const drop of this.drops.values()) {
+      if (drop.mine && (this.lastTick === null || this.lastTick - drop.startTick <= drop.ticks)) count++
+    }
+    return count
   }
 
   /** @param {import('./drop-verifier.js').LocalDrop} drop */
   add (drop) {
     if (this.drops.has(drop.dropId)) return
+    if (drop.trajectory && !drop.contacts) {
+      drop.contacts = pegContacts(this.board, drop.trajectory)
+      drop.contactCursor = 0
+    }
     this.drops.set(drop.dropId, drop)
     let list = this._bySlot.get(drop.slot)
     if (!list) this._bySlot.set(drop.slot, (list = []))
@@ -100,11 +145,17 @@ export class RoomView {
   posesAt (tick, a, b) {
     const poses = this._poses
     poses.length = 0
+    this.lastTick = tick
+    this.unknownDrawn = 0
     const alpha = a && b ? (tick - a.tick) / (b.tick - a.tick) : 0
     for (const drop of this.drops.values()) {
       const age = tick - drop.startTick
       if (age < 0) continue
       if (age > drop.ticks + LANDED_LINGER_TICKS) {
+        if (!drop.landingShown) {
+          drop.landingShown = true
+          this.landings.push({ bucket: drop.bucket, mine: drop.mine, dropId: drop.dropId, drop, stale: true })
+        }
         this._retire(drop)
         continue
       }
@@ -112,6 +163,7 @@ export class RoomView {
         poses.push(this._landedPose(drop, age - drop.ticks))
         continue
       }
+      this._reportContacts(drop, age)
       const sim = simulatedPose(drop, age, simNow)
       const sa = a ? this._entry(a, drop) : -1
       const sb = b ? this._entry(b, drop) : -1
@@ -130,16 +182,18 @@ export class RoomView {
         y = s.ys[i] + (sim.y - anchor.y)
       }
       const deviation = Math.sqrt((x - sim.x) * (x - sim.x) + (y - sim.y) * (y - sim.y))
-      poses.push({ x, y, angle: sim.angle, mine: drop.mine, alpha: 1, dropId: drop.dropId, deviation })
+      poses.push({ x, y, angle: sim.angle, mine: drop.mine, alpha: 1, dropId: drop.dropId, deviation, trajectory: drop.trajectory, age, ox: x - sim.x, oy: y - sim.y })
     }
-    // Balls in snapshots that no announcement explains (should not happen): plain interpolation.
-    if (a) {
+    // Balls in snapshots that no announcement explains (should not happen):
+    // plain interpolation, and only from a recent snapshot (never frozen ghosts).
+    if (a && (b || tick - a.tick <= UNKNOWN_BALL_HOLD * this.snapshotEvery)) {
       for (let i = 0; i < a.slots.length; i++) {
         if (this.dropInSlot(a.slots[i], a.tick)) continue
         const j = b ? indexOfSlot(b, a.slots[i]) : -1
         const x = j >= 0 ? lerp(a.xs[i], b.xs[j], alpha) : a.xs[i]
         const y = j >= 0 ? lerp(a.ys[i], b.ys[j], alpha) : a.ys[i]
         poses.push({ x, y, angle: 0, mine: false, alpha: 1, dropId: -1, deviation: 0 })
+        this.unknownDrawn++
       }
     }
     return poses
@@ -151,13 +205,24 @@ export class RoomView {
     return indexOfSlot(s, drop.slot)
   }
 
+  /** Reports the contacts of `drop` the render clock has reached (once each). */
+  _reportContacts (drop, age) {
+    const contacts = drop.contacts
+    if (!contacts) return
+    while (drop.contactCursor < contacts.length && contacts[drop.contactCursor].tick <= age) {
+      const contact = contacts[drop.contactCursor++]
+      if (contact.tick >= age - STALE_EVENT_TICKS) this.pegHits.push({ peg: contact.peg, row: contact.row, mine: drop.mine })
+    }
+  }
+
   _landedPose (drop, since) {
     const end = 3 * drop.ticks
     const landY = drop.trajectory[end + 1]
     const t = Math.min(1, since / 8)
     if (!drop.landingShown) {
       drop.landingShown = true
-      this.landings.push({ bucket: drop.bucket, mine: drop.mine })
+      this._reportContacts(drop, drop.ticks)
+      this.landings.push({ bucket: drop.bucket, mine: drop.mine, dropId: drop.dropId, drop, stale: since > STALE_EVENT_TICKS })
     }
     return {
       x: drop.trajectory[end],

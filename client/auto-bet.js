@@ -1,0 +1,99 @@
+/**
+ * Auto-bet: the rules of one run (how many bets, when to stop, how the bet
+ * changes after a win or a loss) and its running state. No DOM and no
+ * timers: the page asks `nextBet()` before each drop, reports each sent
+ * drop and each settled result, and stops when `stopReason` is set.
+ * A win is a payout above the bet.
+ */
+
+/**
+ * @typedef {object} AutoBetRules
+ * @property {number} count bets to place
+ * @property {number} baseBet the bet the run starts with (and resets to)
+ * @property {number | null} stopProfit stop once the run's profit reaches this (null: never)
+ * @property {number | null} stopLoss stop once the run's loss reaches this (null: never)
+ * @property {{ mode: 'reset' | 'increase', percent: number }} onWin
+ * @property {{ mode: 'reset' | 'increase', percent: number }} onLoss
+ */
+
+export class AutoBet {
+  /** @param {AutoBetRules} rules @param {{ minBet: number, maxBet: number }} limits */
+  constructor (rules, limits) {
+    this.rules = rules
+    this.limits = limits
+    this.remaining = rules.count
+    this.sent = 0
+    this.settled = 0
+    this.profit = 0
+    this.bet = rules.baseBet
+    /** @type {null | 'done' | 'profit' | 'loss' | 'balance' | 'disconnected' | 'stopped' | 'refused'} */
+    this.stopReason = null
+    /** @type {Set<string>} refs of the drops this run sent */
+    this.refs = new Set()
+    /** @type {Set<number>} ids of the drops this run sent (as the server announced them) */
+    this.dropIds = new Set()
+    /** @type {{ bet: number, payout: number, win: boolean, betBefore: number, betAfter: number, profit: number }[]} each settled result, in order */
+    this.log = []
+  }
+
+  get running () {
+    return this.stopReason === null
+  }
+
+  /** The bet for the next drop, clamped to the limits and `balance`; null when the balance cannot cover the minimum. @param {number | null} balance */
+  nextBet (balance) {
+    return clampBet(this.bet, this.limits, balance)
+  }
+
+  /** A drop of this run went out. @param {string} ref */
+  markSent (ref) {
+    this.refs.add(ref)
+    this.sent++
+    this.remaining--
+    if (this.remaining <= 0 && this.stopReason === null) this.stopReason = 'done'
+  }
+
+  /** A sent drop was refused and may be retried (rate limit, full room). */
+  retry () {
+    this.remaining++
+    this.sent--
+    if (this.stopReason === 'done') this.stopReason = null
+  }
+
+  /**
+   * A drop of this run settled: the profit and the next bet follow.
+   * @param {{ bet: number, payout: number }} result
+   * @returns {string | null} the stop reason it caused
+   */
+  result ({ bet, payout }) {
+    this.settled++
+    this.profit += payout - bet
+    const rule = payout > bet ? this.rules.onWin : this.rules.onLoss
+    const before = this.bet
+    this.bet = rule.mode === 'increase' ? Math.round(this.bet * (1 + rule.percent / 100)) : this.rules.baseBet
+    this.log.push({ bet, payout, win: payout > bet, betBefore: before, betAfter: this.bet, profit: this.profit })
+    // Only a running run stops on its limits (one that finished sending just settles its last balls).
+    if (this.stopReason !== null) return null
+    if (this.rules.stopProfit !== null && this.profit >= this.rules.stopProfit) this.stopReason = 'profit'
+    else if (this.rules.stopLoss !== null && -this.profit >= this.rules.stopLoss) this.stopReason = 'loss'
+    else return null
+    return this.stopReason
+  }
+
+  /** @param {AutoBet['stopReason']} reason */
+  stop (reason) {
+    if (this.stopReason === null) this.stopReason = reason
+  }
+}
+
+/**
+ * A bet within MIN_BET..MAX_BET and the balance, as a whole number of
+ * credits; null when even the minimum is more than the balance.
+ * @param {number} bet @param {{ minBet: number, maxBet: number }} limits @param {number | null} balance
+ */
+export function clampBet (bet, { minBet, maxBet }, balance) {
+  const cap = balance === null ? maxBet : Math.min(maxBet, Math.floor(balance))
+  if (cap < minBet) return null
+  const whole = Number.isFinite(bet) ? Math.round(bet) : minBet
+  return Math.max(minBet, Math.min(cap, whole))
+}

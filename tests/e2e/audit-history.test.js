@@ -1,0 +1,67 @@
+/**
+ * Issue #12, defect 4: the operator page's RTP chart of a quiet room starts
+ * from the room's recorded history (GET /api/audit/drops?room=…) instead of
+ * empty. A player drops balls and leaves; the room is closed; the operator
+ * opens its statistics and sees the measured RTP as it grew over those
+ * drops, ending on the figure the stats endpoint reports.
+ */
+import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { rtpStatistics } from '../../engine/index.js'
+import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
+import { launchChromium, waitInPage } from './helpers/browser.js'
+import { screenshotBoth, expectNotBlank } from './helpers/player-page.js'
+import { GameClient } from '../server/helpers/game-client.js'
+
+const ROOM = '10-low'
+const DROPS = 16
+
+let server
+let chromium
+
+beforeAll(async () => {
+  server = await startArenaServer({ tickRate: 180 })
+  chromium = await launchChromium()
+  const player = (await server.api('POST', '/api/session')).body
+  const client = await GameClient.connect(server.wsUrl(player.token))
+  client.send({ type: 'join', room: ROOM })
+  await client.take('joined')
+  for (let i = 0; i < DROPS; i++) client.send({ type: 'drop', bet: 10 })
+  for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
+  await client.close()
+})
+
+afterAll(async () => {
+  await chromium?.close()
+  await server?.close()
+})
+
+describe('operator page: a quiet room\'s RTP chart', () => {
+  it('starts from the room\'s recorded drops', async () => {
+    const page = await chromium.newPage({ viewport: { width: 1366, height: 800 } })
+    await page.goto(`${server.base}/audit`)
+    await page.evaluate((token) => sessionStorage.setItem('plinko.operatorToken', token), OPERATOR_TOKEN)
+    await page.reload()
+    await waitInPage(page, 'sign-in', () => window.__audit?.signedIn)
+    await page.selectOption('#stats-rows', '10')
+    await page.selectOption('#stats-risk', 'low')
+    await page.click('#stats-form button')
+    const samples = await waitInPage(page, 'the chart from history', (n) => window.__audit.historyLoaded === n && window.__audit.stats?.room === '10-low' && window.__audit.rtpSamples, DROPS)
+
+    // One point per recorded drop (fewer than the chart's 60 points), oldest first, ending on the room's figure.
+    expect(samples).toHaveLength(DROPS)
+    expect(samples.map((s) => s.drops)).toEqual(Array.from({ length: DROPS }, (_, i) => i + 1))
+    const stats = await server.audit(`/api/audit/rooms/${ROOM}/stats`)
+    const expected = rtpStatistics(stats.bucketCounts, stats.multipliers)
+    expect(samples[samples.length - 1].rtp).toBeCloseTo(expected.rtp, 12)
+    // The first point is the first drop's multiplier alone.
+    const { drops } = await server.audit(`/api/audit/drops?room=${ROOM}&limit=100`)
+    const first = drops[drops.length - 1]
+    expect(samples[0].rtp).toBeCloseTo(first.multiplier, 12)
+    // And the chart draws them: a polyline with a point per sample.
+    const points = await page.evaluate(() => [...document.querySelectorAll('#stats svg polyline')].map((p) => p.getAttribute('points').trim().split(/\s+/).length))
+    expect(points).toContain(DROPS)
+    expectNotBlank(expect, await screenshotBoth(page, 'audit-history'))
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+})
