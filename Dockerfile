@@ -1,7 +1,7 @@
 # The Plinko Arena server. Built by docker-compose.yml (two or more replicas
 # behind nginx, with PostgreSQL and Redis); also runs alone:
 #   docker build -t plinko-arena . && docker run -p 8080:8080 plinko-arena
-FROM node:20-bookworm-slim
+FROM node:24-bookworm-slim
 ENV NODE_ENV=production
 WORKDIR /app
 COPY package.json package-lock.json ./
@@ -9,6 +9,7 @@ COPY package.json package-lock.json ./
 RUN npm ci --omit=dev && npm cache clean --force
 COPY engine ./engine
 COPY protocol ./protocol
+COPY charts ./charts
 COPY server ./server
 COPY client ./client
 COPY bin ./bin

@@ -706,6 +706,8 @@ function isTyping (target) {
 /** What tests (and curious players) can read. */
 window.__plinko = {
   get ready () { return state.joinedRoom !== null },
+  /** performance.now() of the first frame with the board drawn (for scripts/page-load.js), or null. */
+  get firstBoardFrameAt () { return firstBoardFrameAt },
   get playerId () { return state.playerId },
   get balance () { return state.balance },
   get room () { return state.joinedRoom },
@@ -748,6 +750,9 @@ window.__plinko = {
   get trace () { return state.trace }
 }
 
+/** When the first frame with the board was drawn (performance.now()). */
+let firstBoardFrameAt = null
+
 function main () {
   setUpControls()
   renderAutoButton()
@@ -756,7 +761,7 @@ function main () {
   // reserved from the first frame, and nothing moves when the room answers.
   const { rows, risk } = parseRoomId(state.roomId)
   renderer.setBoard(verifier.board(rows, risk))
-  requestAnimationFrame(frame)
+  requestAnimationFrame((now) => { firstBoardFrameAt = performance.now(); frame(now) })
   setInterval(updateFooter, 1000)
   connect()
 }

@@ -1,55 +1,133 @@
 import net from 'node:net'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
+import envSchema from 'env-schema'
+import { LOG_FORMATS } from './log-format.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
 /** Snapshot rates that divide the 60 Hz tick evenly, so snapshots are exactly periodic. */
 const SNAPSHOT_RATES = [1, 2, 3, 4, 5, 6, 10, 12, 15, 20, 30, 60]
+const PROXY_KEYWORDS = ['loopback', 'linklocal', 'uniquelocal']
 
 /**
- * Every environment variable the server reads, with its default and rule.
- * The README's configuration table is generated from this list by hand:
- * keep them in step.
+ * An integer written in decimal (spaces around it allowed), from minimum to
+ * maximum: the text is checked first, so "1e3", "0x10" and "1.0" are refused
+ * (ajv's coercion alone would take them), then ajv coerces it to a number
+ * and checks the range.
  */
-const VARIABLES = {
-  PORT: { default: '8080', parse: integer(0, 65535) },
-  HOST: { default: '0.0.0.0', parse: nonEmpty },
-  DATABASE_URL: { default: '', parse: databaseUrl, secret: true },
-  SQLITE_BUSY_TIMEOUT_MS: { default: '5000', parse: integer(0, 60000) },
-  OPERATOR_TOKEN: { default: '', parse: operatorToken, secret: true },
-  SNAPSHOT_HZ: { default: '20', parse: oneOf(SNAPSHOT_RATES.map(String), Number) },
-  SPECTATOR_EVENTS: { default: 'snapshot', parse: oneOf(['snapshot', 'immediate']) },
-  STARTING_BALANCE: { default: '100000', parse: integer(0, Number.MAX_SAFE_INTEGER) },
-  MIN_BET: { default: '1', parse: integer(1, Number.MAX_SAFE_INTEGER) },
-  MAX_BET: { default: '1000000', parse: integer(1, Number.MAX_SAFE_INTEGER) },
-  LOG_LEVEL: { default: 'info', parse: oneOf(LOG_LEVELS) },
-  DROP_RATE: { default: '20', parse: integer(1, 10000) },
-  DROP_BURST: { default: '20', parse: integer(1, 10000) },
-  DROP_RATE_PER_IP: { default: '200', parse: integer(1, 1e6) },
-  JOIN_RATE: { default: '5', parse: integer(1, 10000) },
-  JOIN_RATE_PER_IP: { default: '50', parse: integer(1, 1e6) },
-  MAX_BALLS_PER_ROOM: { default: '500', parse: integer(1, 4096) },
-  WS_MAX_PAYLOAD: { default: '4096', parse: integer(256, 1048576) },
-  WS_SOFT_BUFFER: { default: '65536', parse: integer(1, 1 << 30) },
-  WS_HARD_BUFFER: { default: '1048576', parse: integer(1, 1 << 30) },
-  MAX_CATCH_UP_TICKS: { default: '10', parse: integer(1, 600) },
-  HTTP_RATE_LIMIT: { default: '600', parse: integer(1, 1e9) },
-  HTTP_IDLE_TIMEOUT_MS: { default: '30000', parse: integer(100, 3600000) },
-  HTTP_REQUEST_TIMEOUT_MS: { default: '30000', parse: integer(100, 3600000) },
-  SESSION_RATE_LIMIT: { default: '30', parse: integer(1, 1e9) },
-  WS_MAX_CONNECTIONS: { default: '10000', parse: integer(1, 1e7) },
-  WS_MAX_CONNECTIONS_PER_IP: { default: '50', parse: integer(1, 1e7) },
-  WS_MESSAGE_RATE: { default: '100', parse: integer(1, 1e6) },
-  WS_MESSAGE_BURST: { default: '200', parse: integer(1, 1e6) },
-  WS_HEARTBEAT_MS: { default: '30000', parse: integer(100, 3600000) },
-  SHUTDOWN_TIMEOUT_MS: { default: '10000', parse: integer(100, 3600000) },
-  TRUST_PROXY: { default: 'false', parse: trustProxy },
-  CLIENT_DIR: { default: path.join(ROOT, 'client'), parse: (v) => path.resolve(nonEmpty(v)) },
-  // Clustering (server/cluster/): REDIS_URL turns it on; see the README's "Scaling out".
-  REDIS_URL: { default: '', parse: redisUrl, secret: true },
-  PUBLIC_URL: { default: '', parse: publicUrl },
-  LEASE_TTL_MS: { default: '5000', parse: integer(300, 600_000) }
+function integer (minimum, maximum, fallback) {
+  return {
+    default: fallback,
+    errorMessage: `must be an integer from ${minimum} to ${maximum}`,
+    allOf: [{ type: 'string', pattern: '^\\s*-?\\d+\\s*$' }, { type: 'integer', minimum, maximum }]
+  }
+}
+
+function oneOf (values, fallback) {
+  return { type: 'string', enum: values, default: fallback, errorMessage: `must be one of ${values.join(', ')}` }
+}
+
+function nonEmpty (fallback) {
+  return { type: 'string', pattern: '\\S', default: fallback, errorMessage: 'must not be empty' }
+}
+
+/**
+ * Every environment variable the server reads, as the JSON schema
+ * env-schema checks the environment against (on ajv; see loadConfig): its
+ * default, its range, and the reason given when a value is refused
+ * (`errorMessage`: the one nearest the failing rule). `writeOnly` marks a
+ * secret, never echoed. An empty variable counts as unset. The README's
+ * configuration table lists the same variables and defaults, by hand;
+ * tests/server/config-schema.test.js fails when the two drift apart.
+ */
+export const CONFIG_SCHEMA = {
+  type: 'object',
+  additionalProperties: false,
+  properties: {
+    PORT: integer(0, 65535, '8080'),
+    HOST: nonEmpty('0.0.0.0'),
+    DATABASE_URL: {
+      type: 'string',
+      default: '',
+      writeOnly: true,
+      errorMessage: 'must be sqlite:PATH or postgres://user:password@host:port/database',
+      anyOf: [{ const: '' }, { pattern: '^sqlite:' }, { pattern: '^postgres(ql)?://' }],
+      if: { pattern: '^sqlite:' },
+      then: { minLength: 'sqlite:'.length + 1, errorMessage: 'sqlite: needs a file path, e.g. sqlite:./data/plinko.sqlite' },
+      else: { if: { pattern: '^postgres(ql)?://' }, then: { format: 'url', errorMessage: 'is not a valid postgres:// URL' } }
+    },
+    SQLITE_BUSY_TIMEOUT_MS: integer(0, 60000, '5000'),
+    OPERATOR_TOKEN: {
+      type: 'string',
+      default: '',
+      writeOnly: true,
+      anyOf: [{ const: '' }, { minLength: 16 }],
+      errorMessage: 'must be at least 16 characters (or unset to generate one)'
+    },
+    SNAPSHOT_HZ: oneOf(SNAPSHOT_RATES.map(String), '20'),
+    SPECTATOR_EVENTS: oneOf(['snapshot', 'immediate'], 'snapshot'),
+    STARTING_BALANCE: integer(0, Number.MAX_SAFE_INTEGER, '100000'),
+    MIN_BET: integer(1, Number.MAX_SAFE_INTEGER, '1'),
+    MAX_BET: integer(1, Number.MAX_SAFE_INTEGER, '1000000'),
+    LOG_LEVEL: oneOf(LOG_LEVELS, 'info'),
+    LOG_FORMAT: oneOf(LOG_FORMATS, 'auto'),
+    DROP_RATE: integer(1, 10000, '20'),
+    DROP_BURST: integer(1, 10000, '20'),
+    DROP_RATE_PER_IP: integer(1, 1e6, '200'),
+    JOIN_RATE: integer(1, 10000, '5'),
+    JOIN_RATE_PER_IP: integer(1, 1e6, '50'),
+    MAX_BALLS_PER_ROOM: integer(1, 4096, '500'),
+    WS_MAX_PAYLOAD: integer(256, 1048576, '4096'),
+    WS_SOFT_BUFFER: integer(1, 1 << 30, '65536'),
+    WS_HARD_BUFFER: integer(1, 1 << 30, '1048576'),
+    MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
+    HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
+    HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
+    WS_MAX_CONNECTIONS: integer(1, 1e7, '10000'),
+    WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
+    WS_MESSAGE_RATE: integer(1, 1e6, '100'),
+    WS_MESSAGE_BURST: integer(1, 1e6, '200'),
+    WS_HEARTBEAT_MS: integer(100, 3600000, '30000'),
+    SHUTDOWN_TIMEOUT_MS: integer(100, 3600000, '10000'),
+    // See trustProxy() for what each form means.
+    TRUST_PROXY: {
+      type: 'string',
+      default: 'false',
+      errorMessage: `must be false, a number of proxy hops, or proxy addresses (IPs, subnets, ${PROXY_KEYWORDS.join(', ')})`,
+      anyOf: [{ pattern: '^\\s*false\\s*$' }, { pattern: '^\\s*\\d+\\s*$' }, { format: 'proxy-list' }],
+      allOf: [
+        {
+          if: { pattern: '^\\s*true\\s*$' },
+          then: { not: {}, errorMessage: '"true" would believe the client\'s own X-Forwarded-For (its left-most address); give the number of proxies in front of the server (e.g. 1) or their addresses (e.g. 127.0.0.1, 10.0.0.0/8, loopback)' }
+        },
+        {
+          if: { pattern: '^\\s*\\d+\\s*$' },
+          then: { pattern: '^\\s*0*([1-9]|10)\\s*$', errorMessage: 'as a number of proxy hops must be from 1 to 10' }
+        }
+      ]
+    },
+    CLIENT_DIR: nonEmpty(path.join(ROOT, 'client')),
+    // Clustering (server/cluster/): REDIS_URL turns it on; see the README's "Scaling out".
+    REDIS_URL: {
+      type: 'string',
+      default: '',
+      writeOnly: true,
+      errorMessage: 'must be redis://[user:password@]host:port[/db] or rediss://…',
+      anyOf: [{ const: '' }, { pattern: '^rediss?://' }],
+      if: { pattern: '^rediss?://' },
+      then: { format: 'url', errorMessage: 'is not a valid redis:// URL' }
+    },
+    PUBLIC_URL: {
+      type: 'string',
+      default: '',
+      errorMessage: 'must be an absolute http:// or https:// URL',
+      anyOf: [{ const: '' }, { format: 'http-url' }]
+    },
+    LEASE_TTL_MS: integer(300, 600_000, '5000')
+  }
 }
 
 /**
@@ -60,6 +138,7 @@ const VARIABLES = {
  * @property {number} snapshotHz @property {number} startingBalance
  * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
+ * @property {'auto' | 'json' | 'pretty'} logFormat pretty logs and a banner on a terminal, JSON lines otherwise (server/log-format.js)
  * @property {number} dropRate drops per second per player (token bucket refill)
  * @property {number} dropBurst token bucket capacity
  * @property {number} dropRatePerIp drops per second from one client IP, all its sessions together (burst: 2 s worth)
@@ -85,36 +164,68 @@ const VARIABLES = {
  */
 
 export class ConfigError extends Error {
-  /** @param {string[]} problems */
+  /** @param {string[]} problems each `NAME="value": reason` (`(value hidden)` for a secret), or a rule between variables */
   constructor (problems) {
     super('invalid configuration:\n  ' + problems.join('\n  '))
     this.name = 'ConfigError'
+    this.code = 'E_CONFIG'
     this.problems = problems
   }
 }
 
 /**
- * Reads and validates the configuration; throws one ConfigError listing
- * every problem, so an operator fixes them all in one go.
+ * The `format`s the schema names: `validate`, and for a list, `explain`:
+ * which part of a refused value is wrong (added to the variable's general
+ * reason).
+ */
+const FORMATS = {
+  url: { validate: (text) => URL.canParse(text) },
+  'http-url': { validate: (text) => URL.canParse(text) && ['http:', 'https:'].includes(new URL(text).protocol) },
+  'proxy-list': {
+    validate: (text) => text.split(',').every((entry) => isProxyAddress(entry.trim())),
+    explain: (text) => `"${text.split(',').map((entry) => entry.trim()).find((entry) => !isProxyAddress(entry))}" is none of them`
+  }
+}
+
+let schemaAjv
+/**
+ * env-schema's own ajv (type coercion, defaults, every error at once),
+ * given the formats and the `errorMessage` annotation; made on the first
+ * call, then handed back to env-schema as it is (so the schema is compiled once).
+ */
+function ajvOption () {
+  return schemaAjv ?? {
+    customOptions (fresh) {
+      for (const [name, { validate }] of Object.entries(FORMATS)) fresh.addFormat(name, validate)
+      fresh.addKeyword({ keyword: 'errorMessage', schemaType: 'string' }) // read by problemsOf()
+      schemaAjv = fresh
+      return fresh
+    }
+  }
+}
+
+/**
+ * Reads and validates the configuration against CONFIG_SCHEMA; throws one
+ * ConfigError listing every problem, so an operator fixes them all in one go.
  * @param {Record<string, string | undefined>} [env]
  * @returns {Readonly<Config>}
  */
 export function loadConfig (env = process.env) {
-  const problems = []
-  const values = {}
-  for (const [name, spec] of Object.entries(VARIABLES)) {
-    const raw = env[name] === undefined || env[name] === '' ? spec.default : env[name]
-    try {
-      values[name] = spec.parse(raw)
-    } catch (error) {
-      // Secrets are never echoed, even when invalid.
-      const shown = spec.secret ? '(value hidden)' : JSON.stringify(env[name])
-      problems.push(`${name}=${shown}: ${error.message}`)
-    }
+  // Only the server's variables, and an empty one counts as unset (its default).
+  const data = {}
+  for (const name of CONFIG_VARIABLES) if (env[name] !== undefined && env[name] !== '') data[name] = env[name]
+  let values
+  try {
+    values = envSchema({ schema: CONFIG_SCHEMA, data, env: false, dotenv: false, ajv: ajvOption() })
+  } catch (error) {
+    const problems = Array.isArray(error.errors) ? problemsOf(error.errors, env) : []
+    if (problems.length === 0) throw error // not the environment's fault
+    throw new ConfigError(problems)
   }
-  if (problems.length === 0 && values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
-  if (problems.length === 0 && values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
-  if (problems.length === 0 && values.REDIS_URL && values.DATABASE_URL?.kind !== 'postgres') {
+  const problems = []
+  if (values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
+  if (values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  if (values.REDIS_URL && !/^postgres(ql)?:\/\//.test(values.DATABASE_URL)) {
     problems.push('REDIS_URL (clustering) needs DATABASE_URL=postgres://…: the processes share one ledger')
   }
   if (problems.length > 0) throw new ConfigError(problems)
@@ -123,15 +234,16 @@ export function loadConfig (env = process.env) {
   return Object.freeze({
     port: values.PORT,
     host: values.HOST,
-    database: withBusyTimeout(values.DATABASE_URL ?? { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') }, values.SQLITE_BUSY_TIMEOUT_MS),
+    database: withBusyTimeout(database(values.DATABASE_URL), values.SQLITE_BUSY_TIMEOUT_MS),
     operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
     operatorTokenGenerated: generated,
-    snapshotHz: values.SNAPSHOT_HZ,
+    snapshotHz: Number(values.SNAPSHOT_HZ),
     spectatorEvents: values.SPECTATOR_EVENTS,
     startingBalance: values.STARTING_BALANCE,
     minBet: values.MIN_BET,
     maxBet: values.MAX_BET,
     logLevel: values.LOG_LEVEL,
+    logFormat: values.LOG_FORMAT,
     dropRate: values.DROP_RATE,
     dropBurst: values.DROP_BURST,
     dropRatePerIp: values.DROP_RATE_PER_IP,
@@ -152,12 +264,57 @@ export function loadConfig (env = process.env) {
     wsMessageBurst: values.WS_MESSAGE_BURST,
     wsHeartbeatMs: values.WS_HEARTBEAT_MS,
     shutdownTimeoutMs: values.SHUTDOWN_TIMEOUT_MS,
-    trustProxy: values.TRUST_PROXY,
-    clientDir: values.CLIENT_DIR,
+    trustProxy: trustProxy(values.TRUST_PROXY),
+    clientDir: path.resolve(values.CLIENT_DIR),
     redisUrl: values.REDIS_URL,
-    publicUrl: values.PUBLIC_URL,
+    publicUrl: values.PUBLIC_URL.replace(/\/+$/, ''),
     leaseTtlMs: values.LEASE_TTL_MS
   })
+}
+
+/** Names of all variables, for documentation and tests. */
+export const CONFIG_VARIABLES = Object.freeze(Object.keys(CONFIG_SCHEMA.properties))
+
+/**
+ * One problem per refused variable, in the schema's order: `NAME="value":
+ * reason`, the reason being the `errorMessage` nearest the failing rule
+ * (the deepest, when several rules failed: "sqlite: needs a file path"
+ * rather than the variable's general form; a general reason gets what a
+ * failed format explains). Secrets are never echoed, even when invalid.
+ * @param {import('ajv').ErrorObject[]} errors @param {Record<string, string | undefined>} env
+ */
+function problemsOf (errors, env) {
+  const reasons = new Map()
+  const details = new Map()
+  for (const error of errors) {
+    const name = error.instancePath.split('/')[1]
+    const found = nearestErrorMessage(error.schemaPath)
+    if (!name || !found) continue
+    if (!reasons.has(name) || found.depth > reasons.get(name).depth) reasons.set(name, found)
+    const explain = error.keyword === 'format' ? FORMATS[error.params.format]?.explain : undefined
+    if (explain) details.set(name, explain(env[name]))
+  }
+  return CONFIG_VARIABLES.filter((name) => reasons.has(name)).map((name) => {
+    const shown = CONFIG_SCHEMA.properties[name].writeOnly ? '(value hidden)' : JSON.stringify(env[name])
+    const { message, depth } = reasons.get(name)
+    const detail = depth === GENERAL_DEPTH && details.has(name) ? `; ${details.get(name)}` : ''
+    return `${name}=${shown}: ${message}${detail}`
+  })
+}
+
+/** Where a variable's own errorMessage sits in a schema path: properties/NAME. */
+const GENERAL_DEPTH = 1
+
+/** @param {string} schemaPath e.g. '#/properties/DATABASE_URL/then/minLength' @returns {{ message: string, depth: number } | undefined} */
+function nearestErrorMessage (schemaPath) {
+  const steps = schemaPath.replace(/^#\//, '').split('/')
+  let schema = CONFIG_SCHEMA
+  let found
+  for (let depth = 0; depth < steps.length && schema && typeof schema === 'object'; depth++) {
+    schema = schema[steps[depth]]
+    if (typeof schema?.errorMessage === 'string') found = { message: schema.errorMessage, depth }
+  }
+  return found
 }
 
 /** SQLite: how long a write waits for another process's write lock before failing with E_UNAVAILABLE. */
@@ -165,99 +322,44 @@ function withBusyTimeout (database, busyTimeoutMs) {
   return database.kind === 'sqlite' ? { ...database, busyTimeoutMs } : database
 }
 
-/** Names of all variables, for documentation and tests. */
-export const CONFIG_VARIABLES = Object.freeze(Object.keys(VARIABLES))
-
 function randomToken () {
   const bytes = new Uint8Array(32)
   globalThis.crypto.getRandomValues(bytes)
   return Buffer.from(bytes).toString('hex')
 }
 
-function integer (min, max) {
-  return (raw) => {
-    if (!/^-?\d+$/.test(raw.trim())) throw new Error(`must be an integer from ${min} to ${max}`)
-    const value = Number(raw)
-    if (!Number.isSafeInteger(value) || value < min || value > max) throw new Error(`must be an integer from ${min} to ${max}`)
-    return value
-  }
-}
-
-function oneOf (allowed, map = (v) => v) {
-  return (raw) => {
-    if (!allowed.includes(raw)) throw new Error(`must be one of ${allowed.join(', ')}`)
-    return map(raw)
-  }
-}
-
-function nonEmpty (raw) {
-  if (raw.trim() === '') throw new Error('must not be empty')
-  return raw
-}
-
-function operatorToken (raw) {
-  if (raw !== '' && raw.length < 16) throw new Error('must be at least 16 characters (or unset to generate one)')
-  return raw
-}
-
-/** '' (off) or redis:// / rediss:// */
-function redisUrl (raw) {
-  if (raw === '') return ''
-  if (!/^rediss?:\/\//.test(raw)) throw new Error('must be redis://[user:password@]host:port[/db] or rediss://…')
-  try { new URL(raw) } catch { throw new Error('is not a valid redis:// URL') } // eslint-disable-line no-new
-  return raw
-}
-
-const PROXY_KEYWORDS = ['loopback', 'linklocal', 'uniquelocal']
-
-/**
- * Which X-Forwarded-For hops to believe: 'false' (none: the socket's peer is
- * the client), a number N of proxies in front of the server (the client is
- * the Nth address from the right: what the nearest proxy saw), or the
- * proxies' addresses (IPs, CIDR subnets, or loopback / linklocal /
- * uniquelocal, comma-separated). 'true' is refused: it believes every hop,
- * and the client writes the left-most one itself.
- */
-function trustProxy (raw) {
-  const value = raw.trim()
-  if (value === 'false') return false
-  if (value === 'true') throw new Error('"true" would believe the client\'s own X-Forwarded-For (its left-most address); give the number of proxies in front of the server (e.g. 1) or their addresses (e.g. 127.0.0.1, 10.0.0.0/8, loopback)')
-  if (/^\d+$/.test(value)) {
-    const hops = Number(value)
-    if (hops < 1 || hops > 10) throw new Error('as a number of proxy hops must be from 1 to 10')
-    return hops
-  }
-  const list = value.split(',').map((entry) => entry.trim())
-  for (const entry of list) {
-    const [address, prefix, extra] = entry.split('/')
-    const family = net.isIP(address)
-    const validPrefix = prefix === undefined || (/^\d+$/.test(prefix) && Number(prefix) <= (family === 6 ? 128 : 32))
-    if (PROXY_KEYWORDS.includes(entry) || (family !== 0 && validPrefix && extra === undefined)) continue
-    throw new Error(`must be false, a number of proxy hops, or proxy addresses (IPs, subnets, ${PROXY_KEYWORDS.join(', ')}); "${entry}" is none of them`)
-  }
-  return list
-}
-
-/** '' or an absolute http(s) URL without a trailing slash (a path prefix is allowed: http://lb/n/node1). */
-function publicUrl (raw) {
-  if (raw === '') return ''
-  let url
-  try { url = new URL(raw) } catch { throw new Error('must be an absolute http:// or https:// URL') }
-  if (url.protocol !== 'http:' && url.protocol !== 'https:') throw new Error('must be an absolute http:// or https:// URL')
-  return raw.replace(/\/+$/, '')
-}
-
-/** '' → default SQLite file; sqlite:PATH; postgres://… or postgresql://… */
-function databaseUrl (raw) {
-  if (raw === '') return undefined
-  if (raw.startsWith('sqlite:')) {
-    const file = raw.slice('sqlite:'.length)
-    if (file === '') throw new Error('sqlite: needs a file path, e.g. sqlite:./data/plinko.sqlite')
+/** DATABASE_URL, checked by the schema: '' → the default SQLite file; sqlite:PATH; postgres://… or postgresql://… */
+function database (url) {
+  if (url === '') return { kind: 'sqlite', file: path.join(ROOT, 'data', 'plinko.sqlite') }
+  if (url.startsWith('sqlite:')) {
+    const file = url.slice('sqlite:'.length)
     return { kind: 'sqlite', file: file === ':memory:' ? file : path.resolve(file) }
   }
-  if (/^postgres(ql)?:\/\//.test(raw)) {
-    try { new URL(raw) } catch { throw new Error('is not a valid postgres:// URL') } // eslint-disable-line no-new
-    return { kind: 'postgres', url: raw }
-  }
-  throw new Error('must be sqlite:PATH or postgres://user:password@host:port/database')
+  return { kind: 'postgres', url }
+}
+
+/**
+ * TRUST_PROXY, checked by the schema: which X-Forwarded-For hops to
+ * believe. 'false' (none: the socket's peer is the client), a number N of
+ * proxies in front of the server, 1 to 10 (the client is the Nth address
+ * from the right: what the nearest proxy saw), or the proxies' addresses
+ * (IPs, CIDR subnets, or loopback / linklocal / uniquelocal,
+ * comma-separated). 'true' is refused: it believes every hop, and the
+ * client writes the left-most one itself.
+ * @param {string} text @returns {false | number | string[]}
+ */
+function trustProxy (text) {
+  const value = text.trim()
+  if (value === 'false') return false
+  if (/^\d+$/.test(value)) return Number(value)
+  return value.split(',').map((entry) => entry.trim())
+}
+
+/** An IP, an IP/prefix (at most 32 bits for IPv4, 128 for IPv6) or one of PROXY_KEYWORDS. */
+function isProxyAddress (entry) {
+  if (PROXY_KEYWORDS.includes(entry)) return true
+  const [address, prefix, extra] = entry.split('/')
+  const family = net.isIP(address)
+  const validPrefix = prefix === undefined || (/^\d+$/.test(prefix) && Number(prefix) <= (family === 6 ? 128 : 32))
+  return family !== 0 && validPrefix && extra === undefined
 }

@@ -1,11 +1,16 @@
 import { loadConfig, ConfigError } from './config.js'
 import { buildApp } from './app.js'
+import { logTransport, outputMode, prettyTarget } from './log-format.js'
+import { listenUrls, startBanner } from './start-banner.js'
 
 /**
  * Starts the server: reads the configuration from the environment, builds
- * the app and listens. SIGINT/SIGTERM close it gracefully (balls in flight
- * are settled, connections closed with 1001) within SHUTDOWN_TIMEOUT_MS;
- * a second signal exits at once.
+ * the app and listens. On a terminal it prints a start-up banner and pretty
+ * logs; otherwise (or with LOG_FORMAT=json) JSON lines only (log-format.js).
+ * SIGINT/SIGTERM close it gracefully (balls in flight are settled,
+ * connections closed with 1001) within SHUTDOWN_TIMEOUT_MS, and its last
+ * log line says how that went and with which exit code; a second signal
+ * exits at once.
  */
 let config
 try {
@@ -16,14 +21,31 @@ try {
   process.exit(1)
 }
 
+const isTTY = process.stdout.isTTY === true
+const output = outputMode({ isTTY, logFormat: config.logFormat, prettyAvailable: prettyTarget() !== null })
+
 let app
 try {
-  app = await buildApp(config)
+  app = await buildApp(config, { logTransport: logTransport(output.logs, { colorize: isTTY }), announceToken: !output.banner })
+  if (output.notice) app.log.warn(output.notice)
   await app.listen({ port: config.port, host: config.host })
 } catch (error) {
   console.error(`plinko server failed to start: ${error.message}`)
   await app?.close().catch(() => {})
   process.exit(1)
+}
+if (output.banner) process.stdout.write(startBanner(config, { urls: listenUrls(app.addresses()), logs: output.logs }))
+
+/** Balls in flight in every room of this process. */
+function ballsInFlight () {
+  let count = 0
+  for (const room of app.arena.rooms.values()) count += room.ballsInFlight
+  return count
+}
+
+/** @param {number} n @param {string} noun */
+function count (n, noun) {
+  return `${n} ${noun}${n === 1 ? '' : 's'}`
 }
 
 let closing = false
@@ -31,16 +53,33 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
   process.on(signal, () => {
     if (closing) process.exit(1)
     closing = true
-    app.log.info({ signal }, 'shutting down')
+    const started = Date.now()
+    const before = { balls: ballsInFlight(), sockets: app.websocketServer.clients.size }
+    app.log.info({ signal, dropsInFlight: before.balls, sockets: before.sockets }, 'shutting down')
+    /** The last line: what was settled and closed, and the exit code; then exit. */
+    const finish = (exitCode, outcome, extra = {}) => {
+      const left = { balls: ballsInFlight(), sockets: app.websocketServer.clients.size }
+      const report = {
+        signal,
+        exitCode,
+        dropsSettled: before.balls - left.balls,
+        dropsUnsettled: left.balls,
+        socketsClosed: Math.max(0, before.sockets - left.sockets),
+        socketsOpen: left.sockets,
+        durationMs: Date.now() - started,
+        ...extra
+      }
+      const summary = `${count(report.dropsSettled, 'drop')} in flight settled, ${count(report.socketsClosed, 'socket')} closed` +
+        (left.balls > 0 ? `, ${count(left.balls, 'drop')} still in flight` : '') +
+        (left.sockets > 0 ? `, ${count(left.sockets, 'socket')} still open` : '')
+      app.log[exitCode === 0 ? 'info' : 'error'](report, `${outcome}: ${summary}; exit code ${exitCode}`)
+      process.exit(exitCode)
+    }
     // Balls in flight are settled first (arena.close); what can still hold the
     // close up is HTTP clients that never finish a request: do not wait for them.
     setTimeout(() => {
-      app.log.error({ timeoutMs: config.shutdownTimeoutMs }, 'graceful shutdown timed out; exiting')
-      process.exit(1)
+      finish(1, `graceful shutdown timed out after ${config.shutdownTimeoutMs} ms`, { timeoutMs: config.shutdownTimeoutMs })
     }, config.shutdownTimeoutMs).unref()
-    app.close().then(() => process.exit(0), (error) => {
-      app.log.error({ err: error }, 'shutdown failed')
-      process.exit(1)
-    })
+    app.close().then(() => finish(0, 'shut down'), (error) => finish(1, 'shutdown failed', { err: error }))
   })
 }

@@ -3,6 +3,7 @@ import fs from 'node:fs'
 import path from 'node:path'
 import { createRequire } from 'node:module'
 import { fileURLToPath } from 'node:url'
+import { buildPageBundle } from './page-bundle.js'
 
 /** Folders the browser runs as they are in the repository, by URL prefix: the engine, the wire format and the SVG chart writer. */
 const SHARED_DIRS = {
@@ -19,31 +20,63 @@ const require = createRequire(import.meta.url)
  *   GET /protocol/PATH.js      the repository's protocol/ files (frames, room ids, message schemas)
  *   GET /charts/PATH.js        the repository's charts/ files (the SVG writer the operator page's charts share with the CLI)
  *   GET /vendor/seedrandom.js  seedrandom as an ES module
+ *   GET /bundle/player.js      the player page's whole module graph in one file (page-bundle.js)
  * The pages map the engine's one bare import, 'seedrandom', to
  * /vendor/seedrandom.js with an inline import map (see inlineScriptHashes
- * for how it passes the Content-Security-Policy).
+ * for how it passes the Content-Security-Policy). Each file carries a strong
+ * ETag (its content hash) and `no-cache`: a browser revalidates and gets a
+ * bodiless 304 while the file is unchanged, and a new engine the moment it
+ * is deployed, never a stale one.
  * @param {import('fastify').FastifyInstance} app
+ * @param {{ clientDir: string }} options
  */
-export default async function clientAssetRoutes (app) {
+export default async function clientAssetRoutes (app, { clientDir }) {
   // Read once: a change needs a restart, like the server's own copy. Static
   // and cheap, so outside the per-IP rate limit (a page load fetches every module).
   for (const [prefix, dir] of Object.entries(SHARED_DIRS)) {
     const files = new Map()
     for (const name of fs.readdirSync(dir, { recursive: true })) {
-      if (name.endsWith('.js')) files.set(name.split(path.sep).join('/'), fs.readFileSync(path.join(dir, name), 'utf8'))
+      if (name.endsWith('.js')) files.set(name.split(path.sep).join('/'), moduleFile(fs.readFileSync(path.join(dir, name), 'utf8')))
     }
     app.get(`/${prefix}/*`, { config: { rateLimit: false }, schema: { summary: `A ${prefix} module, for the browser` } }, (request, reply) => {
       const file = request.params['*']
-      const source = files.get(file)
-      if (source === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no ${prefix} file ${file}` })
-      return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(source)
+      const module = files.get(file)
+      if (module === undefined) return reply.code(404).send({ code: 'E_NOT_FOUND', message: `no ${prefix} file ${file}` })
+      return sendModule(request, reply, module)
     })
   }
-  const seedrandom = seedrandomModule()
+  const seedrandom = moduleFile(seedrandomModule())
 
   app.get('/vendor/seedrandom.js', { config: { rateLimit: false }, schema: { summary: 'seedrandom as an ES module, for the browser' } }, (request, reply) => {
-    return reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').send(seedrandom)
+    return sendModule(request, reply, seedrandom)
   })
+
+  const entry = path.join(clientDir, 'player.js')
+  if (!fs.existsSync(entry)) return
+  let bundle
+  try {
+    bundle = moduleFile(await buildPageBundle(entry))
+  } catch (error) {
+    // The page still works, one module at a time, if the bundle cannot be built.
+    app.log.error({ err: error }, 'could not bundle the player page; serving its modules one by one')
+    bundle = moduleFile("import '/player.js'\n")
+  }
+  app.get('/bundle/player.js', { config: { rateLimit: false }, schema: { summary: "The player page's modules (engine, protocol, page) in one file" } }, (request, reply) => {
+    return sendModule(request, reply, bundle)
+  })
+}
+
+/** A module's source and its strong ETag. @param {string} source */
+function moduleFile (source) {
+  return { source, etag: `"${createHash('sha256').update(source, 'utf8').digest('base64url').slice(0, 22)}"` }
+}
+
+/** The module, or 304 when the browser's copy (If-None-Match) is this one. */
+function sendModule (request, reply, { source, etag }) {
+  reply.type('text/javascript; charset=utf-8').header('cache-control', 'no-cache').header('etag', etag)
+  const cached = request.headers['if-none-match']
+  if (cached !== undefined && cached.split(',').some((tag) => tag.trim() === etag)) return reply.code(304).send()
+  return reply.send(source)
 }
 
 /**

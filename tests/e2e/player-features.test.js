@@ -220,11 +220,14 @@ describe('player page features', () => {
     await page.click('#drop')
     await page.click('#drop')
     await waitInPage(page, 'own balls in flight', () => window.__plinko.ownInFlight === 2)
+    // Drawn once the playout buffer reaches their start tick (≥ 100 ms after `dropped`).
+    await waitInPage(page, 'both own balls drawn', () => window.__plinko.lastFrame?.mine === 2)
     await page.selectOption('#rows', '8')
     expect(await page.evaluate(() => window.__plinko.room)).toBe('16-medium')
     expect(await page.inputValue('#rows')).toBe('16')
     expect(await page.textContent('#message')).toContain('Wait for your 2 balls in flight to land')
-    // The balls are still drawn.
+    // The balls are still drawn after the refusal.
+    await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))))
     expect(await page.evaluate(() => window.__plinko.lastFrame.mine)).toBe(2)
     await waitInPage(page, 'the balls to land', () => window.__plinko.ownInFlight === 0)
     await page.selectOption('#rows', '8')

@@ -9,9 +9,20 @@ import { expectConsistentLedger } from './helpers/ledger.js'
 /**
  * SIGTERM on a real server process with balls in flight: it stops taking
  * work, plays every ball to the end, commits and announces the settlements,
- * closes every socket with 1001 and exits 0 within a bound.
+ * closes every socket with 1001 and exits 0 within a bound; its last log
+ * line says so (drops settled, sockets closed, exit code).
  */
 const EXIT_BOUND_MS = 15_000
+
+/**
+ * The server's last log line (JSON: the output is piped), once its pipes
+ * have closed (`pipesClosed`: the child's 'close', listened for before the
+ * signal; 'exit' can come before the last chunk is read).
+ */
+async function lastLogLine (proc, pipesClosed) {
+  await pipesClosed
+  return JSON.parse(proc.output().trimEnd().split('\n').at(-1))
+}
 
 describe('graceful shutdown (SIGTERM) on sqlite', () => {
   const backend = storeBackend('sqlite')
@@ -37,6 +48,7 @@ describe('graceful shutdown (SIGTERM) on sqlite', () => {
     expect(settledEarly).toBeLessThan(acked.length)
 
     const started = Date.now()
+    const pipesClosed = new Promise((resolve) => proc.child.once('close', resolve))
     proc.child.kill('SIGTERM')
     // Work sent once shutdown has begun is refused (or never reaches a handler); nothing is debited for it.
     while (!/shutting down/.test(proc.output())) await new Promise((resolve) => setTimeout(resolve, 2))
@@ -44,6 +56,13 @@ describe('graceful shutdown (SIGTERM) on sqlite', () => {
     const exit = await Promise.race([proc.exited, new Promise((resolve) => setTimeout(() => resolve('timeout'), EXIT_BOUND_MS))])
     expect(exit).toEqual({ code: 0, signal: null })
     console.info(`[graceful-shutdown] ${acked.length} drops acknowledged, ${acked.length - settledEarly} in flight at SIGTERM; exited 0 after ${Date.now() - started} ms`)
+    // The last line says it finished: every drop in flight settled, every socket closed, and the exit code.
+    const last = await lastLogLine(proc, pipesClosed)
+    expect(last).toMatchObject({ level: 30, signal: 'SIGTERM', exitCode: 0, dropsUnsettled: 0, socketsClosed: players.length, socketsOpen: 0 })
+    expect(last.dropsSettled).toBeGreaterThan(0)
+    expect(last.dropsSettled).toBeLessThanOrEqual(acked.length - settledEarly)
+    expect(last.msg).toBe(`shut down: ${last.dropsSettled} drops in flight settled, ${players.length} sockets closed; exit code 0`)
+    expect(last.durationMs).toBeLessThanOrEqual(Date.now() - started)
 
     for (const { client, session } of players) {
       const closed = await client.closed
@@ -112,11 +131,18 @@ describe('graceful shutdown (SIGTERM) on sqlite', () => {
     slow.write('PUT /api/seeds/client HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{"cl')
     await new Promise((resolve) => setTimeout(resolve, 100))
     const started = Date.now()
+    const pipesClosed = new Promise((resolve) => proc.child.once('close', resolve))
     proc.child.kill('SIGTERM')
     const exit = await Promise.race([proc.exited, new Promise((resolve) => setTimeout(() => resolve('timeout'), EXIT_BOUND_MS))])
     expect(exit).not.toBe('timeout')
     expect([0, 1]).toContain(exit.code)
     expect(Date.now() - started).toBeLessThan(EXIT_BOUND_MS)
+    // Whichever way it ended, the last line says so, with the real exit code; the drops were settled either way.
+    const last = await lastLogLine(proc, pipesClosed)
+    expect(last).toMatchObject({ signal: 'SIGTERM', exitCode: exit.code, dropsUnsettled: 0, socketsOpen: 0 })
+    expect(last.msg).toMatch(exit.code === 0
+      ? /^shut down: \d+ drops? in flight settled, 1 socket closed; exit code 0$/
+      : /^graceful shutdown timed out after 1500 ms: \d+ drops? in flight settled, 1 socket closed; exit code 1$/)
     expect((await client.closed).code).toBe(1001)
     expect(client.messages.filter((m) => m.type === 'settled')).toHaveLength(10)
     await expectConsistentLedger(expect, backend, db.database, { playerIds: [session.playerId], startingBalance: 100000 })

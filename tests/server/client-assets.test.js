@@ -94,4 +94,62 @@ describe('client assets', () => {
       expect(scriptSrc).toContain(`'sha256-${createHash('sha256').update(inline[0]).digest('base64')}'`)
     }
   })
+
+  it('revalidates the shared modules by content hash: a 304 with no body while unchanged, never a stale copy', async () => {
+    for (const url of ['/engine/index.js', '/protocol/payout.js', '/charts/svg.js', '/vendor/seedrandom.js']) {
+      const first = await fetch(`${server.base}${url}`)
+      const body = await first.text()
+      const etag = first.headers.get('etag')
+      expect(etag, url).toMatch(/^"[\w-]{22}"$/)
+      expect(first.headers.get('cache-control')).toBe('no-cache')
+      const again = await fetch(`${server.base}${url}`, { headers: { 'if-none-match': `"other", ${etag}` } })
+      expect(again.status, url).toBe(304)
+      expect(await again.text()).toBe('')
+      const changed = await fetch(`${server.base}${url}`, { headers: { 'if-none-match': '"not-this-one"' } })
+      expect(changed.status).toBe(200)
+      expect(await changed.text()).toBe(body)
+    }
+    // Different files, different tags.
+    const tags = await Promise.all(['/engine/index.js', '/engine/world.js'].map(async (url) => (await fetch(`${server.base}${url}`)).headers.get('etag')))
+    expect(new Set(tags).size).toBe(2)
+  })
+
+  it('compresses the page and its modules for browsers that accept it, byte for byte the same once decoded', async () => {
+    const { brotliDecompressSync, gunzipSync } = await import('node:zlib')
+    const http = await import('node:http')
+    // node:http, not fetch: fetch decodes on its own and hides what came over the wire.
+    const raw = (url, encoding) => new Promise((resolve, reject) => {
+      http.get(`${server.base}${url}`, { headers: { 'accept-encoding': encoding } }, (response) => {
+        const chunks = []
+        response.on('data', (chunk) => chunks.push(chunk))
+        response.on('end', () => resolve({ headers: response.headers, body: Buffer.concat(chunks) }))
+      }).on('error', reject)
+    })
+    for (const url of ['/', '/player.js', '/engine/world.js', '/protocol/snapshot-codec.js']) {
+      const plain = await raw(url, 'identity')
+      expect(plain.headers['content-encoding'], url).toBeUndefined()
+      const br = await raw(url, 'br')
+      expect(br.headers['content-encoding'], url).toBe('br')
+      expect(brotliDecompressSync(br.body).equals(plain.body), url).toBe(true)
+      expect(br.body.length, url).toBeLessThan(plain.body.length / 2)
+      const gzip = await raw(url, 'gzip')
+      expect(gzip.headers['content-encoding'], url).toBe('gzip')
+      expect(gunzipSync(gzip.body).equals(plain.body), url).toBe(true)
+    }
+  })
+
+  it('serves the player page in one module built from the very files it serves one by one', async () => {
+    const page = await server.api('GET', '/')
+    const scripts = [...page.text.matchAll(/<script\b[^>]*\bsrc="([^"]+)"/g)].map((m) => m[1])
+    expect(scripts).toEqual(['/bundle/player.js'])
+    const response = await fetch(`${server.base}/bundle/player.js`)
+    expect(response.status).toBe(200)
+    expect(response.headers.get('content-type')).toMatch(/^text\/javascript/)
+    expect(response.headers.get('etag')).toMatch(/^"[\w-]{22}"$/)
+    const bundle = await response.text()
+    // Not minified: every module is there under its own path, the engine of every shipped version with it.
+    const modules = [...bundle.matchAll(/^\/\/ (\S+\.js)$/gm)].map((m) => m[1])
+    expect(modules).toEqual(expect.arrayContaining(['client/player.js', 'engine/world.js', 'engine/versions/engine-1.0.0.js', 'engine/versions/engine-2.0.0.js', 'protocol/snapshot-codec.js', 'node_modules/seedrandom/seedrandom.js']))
+    expect(bundle).not.toMatch(/^import\s/m) // nothing left to fetch
+  })
 })
