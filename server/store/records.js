@@ -95,11 +95,13 @@ export function seedFromRow (row) {
 
 /** Per-bucket counts and totals of a room's settled drops, and its measured RTP. */
 export function statsFromRows (bucketRows, inFlight) {
-  let drops = 0; let totalBet = 0; let totalPayout = 0
+  // Summed in milli-credits (integers, exact), shown in credits.
+  let drops = 0; let totalBet = 0; let totalPayoutMilli = 0
   const buckets = bucketRows.map((row) => {
-    const count = Number(row.count); const bet = Number(row.bet); const payout = toCredits(Number(row.payout))
-    drops += count; totalBet += bet; totalPayout += payout
-    return { bucket: Number(row.bucket), count, bet, payout }
+    const count = Number(row.count); const bet = Number(row.bet); const payoutMilli = Number(row.payout)
+    drops += count; totalBet += bet; totalPayoutMilli += payoutMilli
+    return { bucket: Number(row.bucket), count, bet, payout: toCredits(payoutMilli) }
   })
-  return { settled: drops, inFlight: Number(inFlight), totalBet, totalPayout, rtp: totalBet === 0 ? null : totalPayout / totalBet, buckets }
+  const totalPayout = toCredits(totalPayoutMilli)
+  return { settled: drops, inFlight: Number(inFlight), totalBet, totalPayout, rtp: totalBet === 0 ? null : totalPayoutMilli / (totalBet * 1000), buckets }
 }
