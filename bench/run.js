@@ -1,6 +1,6 @@
 #!/usr/bin/env node
 /**
- * `npm run bench` (node bench/run.js [--quick] [--only engine|game|server]).
+ * `npm run bench` (node bench/run.js [--quick] [--only engine|game|server|floor]).
  *
  * Runs the engine benchmarks (engine-bench.js: our engine, matter-js and
  * planck, in this one process so the peers are measured in the same run),
@@ -8,7 +8,10 @@
  * volatility, fall, RTP), then the server benchmarks bench/server-ticks.js and
  * bench/server-snapshots.js when they exist, each as a child process
  * `node --expose-gc <file> [--quick]` whose output is passed through
- * (stopped after SERVER_BENCH_TIMEOUT_S, so a hung bench cannot hang the run).
+ * (stopped after SERVER_BENCH_TIMEOUT_S, so a hung bench cannot hang the run),
+ * then the WebSocket floor beside our server (bench/ws-floor.js, part
+ * `floor`: a bare `ws` server's CPU per frame and ours under the lean load
+ * generator, pinned to one core each, and their ratio), the same way.
  *
  * --quick: a short run (CI smoke tests); the figures are rough.
  *
@@ -24,10 +27,11 @@ import { runEngineBenchmarks } from './engine-bench.js'
 import { runGameFigures } from './game-figures.js'
 
 const SERVER_BENCHES = ['server-ticks.js', 'server-snapshots.js']
+const FLOOR_BENCHES = ['ws-floor.js']
 /** A server bench that runs longer than this is stopped (SIGTERM) and reported as failed, so `npm run bench` never hangs. */
 const SERVER_BENCH_TIMEOUT_S = { quick: 180, full: 900 }
-const USAGE = 'usage: node bench/run.js [--quick] [--only engine|game|server]'
-const PARTS = ['engine', 'game', 'server']
+const USAGE = 'usage: node bench/run.js [--quick] [--only engine|game|server|floor]'
+const PARTS = ['engine', 'game', 'server', 'floor']
 
 const args = process.argv.slice(2)
 let options
@@ -56,7 +60,7 @@ if (runs('game')) {
   await runGameFigures({ quick })
 }
 
-for (const file of runs('server') ? SERVER_BENCHES : []) {
+for (const file of [...(runs('server') ? SERVER_BENCHES : []), ...(runs('floor') ? FLOOR_BENCHES : [])]) {
   const path = fileURLToPath(new URL(file, import.meta.url))
   console.log('')
   if (!existsSync(path)) {

@@ -1,0 +1,87 @@
+#!/usr/bin/env node
+/**
+ * The WebSocket floor beside our server, in one run:
+ * `node bench/ws-floor.js [--quick] [--players N] [--seconds S] [--repeat R]`
+ * (part `floor` of `npm run bench`).
+ *
+ * 1. **The floor**: bench/ws-floor-server.js, a bare `ws` server that only
+ *    sends the same 190-byte binary frame to every socket every 50 ms
+ *    (perMessageDeflate off, no game, no ledger), pinned to CPU 0
+ *    (`taskset -c 0`), with N raw clients (loadtest/lean/lean-socket.js) in
+ *    this process on CPU 1. Its CPU time (/proc/<pid>/stat) over the window,
+ *    divided by the frames the clients received: the floor's µs per frame.
+ * 2. **Ours**: server/server.js (fresh SQLite ledger, per-address limits
+ *    lifted), pinned to CPU 0, under the lean load generator with the
+ *    reference load (N players, 100 rooms, one drop each every 2 s, 20 Hz
+ *    snapshots) on CPU 1: the server's CPU over the generator's steady
+ *    window, divided by the frames its players received (room frames and
+ *    their own `dropped`/`settled`).
+ *
+ * Printed side by side: both µs per frame and their ratio (goal ≤ 1.5×),
+ * and the generator's own µs per frame beside the bare clients' (the
+ * floor of a reader on this kernel). Without taskset (or with one CPU) the
+ * processes are not pinned and the figures say so. The machine may be
+ * shared: the other processes' CPU over each window is printed too.
+ * Exit code 0 whatever the figures; 1 when a run's checks fail.
+ */
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+import { parseArgs } from 'node:util'
+import { formatLeanSummary } from '../loadtest/lean/lean-generator.js'
+import { canPin, pinSelf, measureFloor, measureOurs } from '../loadtest/lean/measure-server.js'
+import { formatTable, fixed } from './table.js'
+
+const GOAL_RATIO = 1.5
+
+const pct = (share) => share === null || share === undefined ? '–' : `${(share * 100).toFixed(1)}%`
+const spread = (values, digits = 2) => values.length < 2 ? fixed(values[0], digits) : `${fixed(Math.min(...values), digits)}–${fixed(Math.max(...values), digits)}`
+
+async function main () {
+  const USAGE = 'usage: node bench/ws-floor.js [--quick] [--players N] [--seconds S] [--repeat R]'
+  let values
+  try {
+    values = parseArgs({ options: { quick: { type: 'boolean' }, players: { type: 'string' }, seconds: { type: 'string' }, repeat: { type: 'string' }, help: { type: 'boolean', short: 'h' } } }).values
+  } catch (error) {
+    console.error(`${error.message}\n${USAGE}`)
+    process.exit(2)
+  }
+  if (values.help) return console.log(USAGE)
+  const quick = Boolean(values.quick)
+  const players = Number(values.players ?? (quick ? 200 : 1000))
+  const seconds = Number(values.seconds ?? (quick ? 5 : 20))
+  const repeat = Number(values.repeat ?? 1)
+  if (![players, seconds, repeat].every((n) => Number.isFinite(n) && n > 0)) {
+    console.error(USAGE)
+    process.exit(2)
+  }
+  const pin = canPin() && pinSelf('1')
+  console.log(`WebSocket floor vs our server: ${players} clients / players, ${seconds} s windows, ${repeat} run${repeat > 1 ? 's' : ''}; ${pin ? 'server on CPU 0, clients and generator on CPU 1 (taskset)' : 'NOT pinned (no taskset or one CPU): the figures share cores'}`)
+  const rows = []
+  const ratios = []
+  const floors = []
+  const ours = []
+  const generators = []
+  const readers = []
+  for (let run = 1; run <= repeat; run++) {
+    const floor = await measureFloor({ clients: players, seconds, pin })
+    const our = await measureOurs({ players, durationS: seconds + 3, rampS: quick ? 3 : 10, pin })
+    const ratio = our.serverUsPerFrame / floor.serverUsPerFrame
+    floors.push(floor.serverUsPerFrame)
+    ours.push(our.serverUsPerFrame)
+    ratios.push(ratio)
+    generators.push(our.summary.cpu.usPerFrame)
+    readers.push(floor.clientUsPerFrame)
+    rows.push([`${run}: floor (bare ws, 190 B every 50 ms)`, fixed(floor.framesPerSecond, 0), pct(floor.serverShare), fixed(floor.serverUsPerFrame, 2), '1.00×', `${fixed(floor.clientUsPerFrame, 2)} (bare reader)`, pct(floor.othersShare)])
+    rows.push([`${run}: ours (${players} players, 100 rooms, 1 drop / 2 s)`, fixed(our.framesPerSecond, 0), pct(our.serverShare), fixed(our.serverUsPerFrame, 2), `${fixed(ratio, 2)}×`, `${fixed(our.summary.cpu.usPerFrame, 2)} (lean generator)`, pct(our.othersShare)])
+    if (!our.summary.passed) {
+      console.log(formatLeanSummary(our.summary))
+      process.exitCode = 1
+    }
+  }
+  const columns = ['run: what', 'frames/s', 'server CPU', 'server µs/frame', 'vs floor', 'client µs/frame', 'other processes'].map((title, i) => ({ title, align: i === 0 || i === 5 ? 'left' : 'right' }))
+  console.log(formatTable(columns, rows))
+  console.log(`server µs per frame: floor ${spread(floors)}, ours ${spread(ours)}; ours / floor = ${spread(ratios)}× (goal ≤ ${GOAL_RATIO}×: ${Math.max(...ratios) <= GOAL_RATIO ? 'met' : 'not met'})`)
+  console.log(`client µs per frame received: bare reader ${spread(readers)}, lean generator ${spread(generators)} (goal ≤ 5 µs: ${Math.max(...generators) <= 5 ? 'met' : 'not met'})`)
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) await main()

@@ -1,0 +1,186 @@
+#!/usr/bin/env node
+/**
+ * `npm run loadtest:capacity -- [options]`: how many players one server
+ * process holds on one core. For each player count in --steps: the bare
+ * WebSocket floor with that many clients (measure-server.js), then a fresh
+ * server (server/server.js, SQLite ledger) pinned to CPU 0 under the lean
+ * load generator on CPU 1 with the reference load (one drop per player
+ * every 2 s, 20 Hz snapshots, --rooms rooms), /metrics read every second.
+ * A step holds when every criterion does (CRITERIA below); the stepping
+ * stops at the first step that does not (--all: runs every step).
+ *
+ * Prints one line per step and writes the table to loadtest/RESULTS.md
+ * between the `capacity:begin` / `capacity:end` markers (--no-results:
+ * print only). Exit code 0 whatever the figures, 2 for a bad command line.
+ */
+import fs from 'node:fs'
+import path from 'node:path'
+import { fileURLToPath } from 'node:url'
+import { parseCommandLine } from '../../cli/command-line.js'
+import { UsageError } from '../../cli/usage-error.js'
+import { parseDuration } from '../driver/cli-args.js'
+import { formatLeanSummary } from './lean-generator.js'
+import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
+
+const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
+export const BEGIN_MARKER = '<!-- capacity:begin (written by npm run loadtest:capacity) -->'
+export const END_MARKER = '<!-- capacity:end -->'
+
+/** Every criterion a step must meet; `value` reads it from a step's figures. */
+export const CRITERIA = [
+  { name: 'tick p99 < 8 ms', holds: (step) => step.tickP99Ms !== null && step.tickP99Ms < 8 },
+  { name: 'tick lag p99 < 16.7 ms', holds: (step) => step.lagP99Ms !== null && step.lagP99Ms < 16.7 },
+  { name: '0 errors', holds: (step) => step.errors === 0 && step.serverErrors === 0 },
+  { name: 'every drop settled', holds: (step) => step.unsettled === 0 && step.dropsSettled === step.dropsSent && step.dropsSent > 0 },
+  { name: 'drop → dropped p99 < 250 ms', holds: (step) => step.ackP99Ms !== null && step.ackP99Ms < 250 }
+]
+
+export const USAGE = `usage: npm run loadtest:capacity -- [options]
+
+  --steps N,N,…        player counts to try, in order (default 1000,1500,2000,2500,3000,3500,4000)
+  --rooms N            rooms (default 100)
+  --duration TIME      steady phase per step (default 30s)
+  --ramp TIME          players connect spread over this (default 20s)
+  --floor-seconds TIME the floor's window per step (default 10s; 0 = no floor)
+  --workers N          generator worker threads (default 1)
+  --all                run every step, not only up to the first that fails
+  --no-results         print only; do not write loadtest/RESULTS.md
+  -h, --help`
+
+const OPTIONS = {
+  help: { type: 'boolean', short: 'h' },
+  steps: { type: 'string' },
+  rooms: { type: 'string' },
+  duration: { type: 'string' },
+  ramp: { type: 'string' },
+  'floor-seconds': { type: 'string' },
+  workers: { type: 'string' },
+  all: { type: 'boolean', default: false },
+  'no-results': { type: 'boolean', default: false }
+}
+
+/** @param {string[]} argv */
+export function parseCapacityArgs (argv) {
+  const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
+  if (values.help) return { help: true }
+  const integer = (raw, name) => {
+    const value = Number(raw)
+    if (!Number.isInteger(value) || value < 1) throw new UsageError(`--${name} must be a positive integer, got ${raw}`)
+    return value
+  }
+  const steps = (values.steps ?? '1000,1500,2000,2500,3000,3500,4000').split(',').map((raw) => integer(raw.trim(), 'steps'))
+  return {
+    help: false,
+    steps,
+    rooms: values.rooms === undefined ? 100 : integer(values.rooms, 'rooms'),
+    durationS: parseDuration(values.duration ?? '30s', 'duration'),
+    rampS: parseDuration(values.ramp ?? '20s', 'ramp'),
+    floorSeconds: parseDuration(values['floor-seconds'] ?? '10s', 'floor-seconds'),
+    workers: values.workers === undefined ? 1 : integer(values.workers, 'workers'),
+    all: values.all,
+    writeResults: !values['no-results']
+  }
+}
+
+/**
+ * One step's figures from measureOurs() (and the floor's, when measured).
+ * @param {Awaited<ReturnType<typeof measureOurs>>} ours
+ * @param {Awaited<ReturnType<typeof measureFloor>> | null} floor
+ */
+export function stepFigures (ours, floor) {
+  const s = ours.summary
+  const a = ours.analysis
+  const ms = (seconds) => seconds === null || seconds === undefined ? null : seconds * 1000
+  const step = {
+    players: ours.players,
+    serverShare: ours.serverShare,
+    serverUsPerFrame: ours.serverUsPerFrame,
+    floorUsPerFrame: floor?.serverUsPerFrame ?? null,
+    ratio: floor ? ours.serverUsPerFrame / floor.serverUsPerFrame : null,
+    tickP99Ms: ms(a?.tick?.p99),
+    lagP99Ms: ms(a?.tickLag?.p99),
+    // Drops sent in the steady window: the ramp's connects (one fsync'd session each) are not the load being measured.
+    ackP50Ms: s.steady.ackMs.p50,
+    ackP99Ms: s.steady.ackMs.p99,
+    settledP50Ms: s.steady.settledMs.p50,
+    settledP99Ms: s.steady.settledMs.p99,
+    ackP99AllMs: s.ackMs.p99,
+    dropsSent: s.dropsSent,
+    dropsSettled: s.dropsSettled,
+    unsettled: s.unsettled,
+    errors: s.errorCount,
+    serverErrors: Object.values(a?.serverErrors ?? {}).reduce((total, count) => total + count, 0),
+    framesPerSecondPerPlayer: s.window.framesPerSecondPerPlayer,
+    bytesPerSecondPerPlayer: s.window.bytesPerSecondPerPlayer,
+    rssPerClient: a?.memory?.rssPerClient ?? null,
+    generatorShare: s.cpu.shareOfCore,
+    generatorUsPerFrame: s.cpu.usPerFrame,
+    othersShare: ours.othersShare
+  }
+  step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
+  step.holds = step.failed.length === 0
+  return step
+}
+
+const f = (value, digits = 1) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
+const pct = (share) => share === null || share === undefined ? '–' : `${f(share * 100, 0)}%`
+
+/** The markdown table of the steps, and the verdict. @param {ReturnType<typeof stepFigures>[]} steps @param {object} options */
+export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new Date() }) {
+  const best = steps.filter((step) => step.holds).map((step) => step.players)
+  const header = '| players | server CPU | server µs/frame | floor µs/frame | ratio | tick p99 | lag p99 | drop → dropped p50 / p99 | drop → settled p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
+  const rows = steps.map((step) => `| ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
+  return [
+    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? 'server pinned to CPU 0 and the generator to CPU 1' : 'NOT pinned'}.`,
+    '',
+    `**Most players on one server process with every criterion met: ${best.length ? Math.max(...best).toLocaleString('en-US') : 'none of the steps'}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).`,
+    '',
+    header,
+    `|${header.split('|').slice(1, -1).map(() => ' ---').join(' |')} |`,
+    ...rows
+  ].join('\n')
+}
+
+/** Replaces the text between the markers in `file` (or appends a section with them). @param {string} file @param {string} body */
+export function writeBetweenMarkers (file, body) {
+  const text = fs.readFileSync(file, 'utf8')
+  const begin = text.indexOf(BEGIN_MARKER)
+  const end = text.indexOf(END_MARKER)
+  const block = `${BEGIN_MARKER}\n${body}\n${END_MARKER}`
+  const next = begin !== -1 && end > begin
+    ? text.slice(0, begin) + block + text.slice(end + END_MARKER.length)
+    : `${text.trimEnd()}\n\n## Capacity (npm run loadtest:capacity)\n\n${block}\n`
+  fs.writeFileSync(file, next)
+}
+
+async function main () {
+  let options
+  try {
+    options = parseCapacityArgs(process.argv.slice(2))
+  } catch (error) {
+    if (!(error instanceof UsageError)) throw error
+    console.error(`${error.message}\n\n${USAGE}`)
+    process.exit(2)
+  }
+  if (options.help) return console.log(USAGE)
+  const pinned = canPin() && pinSelf('1')
+  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; ${pinned ? 'server on CPU 0, generator on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
+  const steps = []
+  for (const players of options.steps) {
+    const floor = options.floorSeconds > 0 ? await measureFloor({ clients: players, seconds: options.floorSeconds, pin: pinned }) : null
+    const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true })
+    const step = stepFigures(ours, floor)
+    steps.push(step)
+    console.log(`${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
+    if (!ours.summary.passed) console.log(formatLeanSummary(ours.summary))
+    if (!step.holds && !options.all) break
+  }
+  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned })
+  console.log(`\n${markdown}`)
+  if (options.writeResults) {
+    writeBetweenMarkers(RESULTS, markdown)
+    console.log(`\nwritten to ${path.relative(process.cwd(), RESULTS)}`)
+  }
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) await main()

@@ -1,0 +1,241 @@
+/**
+ * The lean load generator: PLAYERS simulated players (lean-player.js) in
+ * WORKERS worker threads (lean-worker.js), spread over the first ROOMS
+ * rooms the server lists, connecting over RAMP, dropping one ball every
+ * DROP_INTERVAL for DURATION, then draining and leaving. For capacity runs,
+ * where k6 (about 32 µs of CPU per frame received) runs out of CPU before
+ * the server does; k6 stays the scenario and CI load test.
+ *
+ * It measures its own cost: CPU time of this whole process (every thread,
+ * process.cpuUsage) and of each worker thread (/proc/thread-self/stat) over
+ * the steady window (from SETTLE after the last player connected to the
+ * first leave), divided by the frames received in it. Traffic goes to
+ * loopback only, and every run is bounded: a worker that has not reported
+ * by ramp + duration + drain + 60 s is stopped and the run fails.
+ */
+import { Worker } from 'node:worker_threads'
+import { loopbackTarget } from '../driver/cli-args.js'
+
+const WORKER_URL = new URL('./lean-worker.js', import.meta.url)
+const START_DELAY_MS = 500
+const DEADLINE_SLACK_MS = 60_000
+
+/**
+ * @typedef {object} LeanOptions
+ * @property {string} baseUrl http://127.0.0.1:PORT or http://localhost:PORT
+ * @property {number} players @property {number} rooms
+ * @property {number} durationS steady phase (every player connected)
+ * @property {number} [rampS] players connect spread over this (default 5 s)
+ * @property {number} [dropIntervalMs] default 2000; 0 = no drops
+ * @property {number} [bet] default 10
+ * @property {number} [drainS] how long a leaving player waits for its last settles (default 15 s)
+ * @property {number} [settleS] pause after the last connect before the window opens (default: 3 s, at most a quarter of the duration)
+ * @property {number} [workers] worker threads (default 1)
+ * @property {{ start?: () => void, end?: () => void }} [window] called when the steady window opens and closes (e.g. to read the server's CPU)
+ */
+
+/**
+ * @param {number[] | Float64Array} values @param {number} q 0..1
+ * @returns {number | null} nearest-rank quantile
+ */
+export function quantile (values, q) {
+  if (values.length === 0) return null
+  const sorted = Float64Array.from(values).sort()
+  return sorted[Math.min(sorted.length - 1, Math.max(0, Math.ceil(q * sorted.length) - 1))]
+}
+
+/**
+ * Runs the load and returns its figures; `passed` is false when any check failed.
+ * @param {LeanOptions} options
+ */
+export async function runLeanLoad (options) {
+  const baseUrl = loopbackTarget(options.baseUrl).replace(/\/$/, '')
+  const players = options.players
+  const rampMs = (options.rampS ?? 5) * 1000
+  const durationMs = options.durationS * 1000
+  const dropIntervalMs = options.dropIntervalMs ?? 2000
+  const drainMs = (options.drainS ?? 15) * 1000
+  const settleMs = (options.settleS ?? Math.min(3, options.durationS / 4)) * 1000
+  const workerCount = Math.max(1, Math.min(options.workers ?? 1, players))
+
+  const response = await fetch(`${baseUrl}/api/rooms`, { signal: AbortSignal.timeout(10_000) })
+  if (!response.ok) throw new Error(`GET /api/rooms: ${response.status}`)
+  const offered = (await response.json()).roomIds
+  const rooms = offered.slice(0, Math.max(1, options.rooms))
+
+  const startAt = Date.now() + START_DELAY_MS
+  const leaveAt = startAt + rampMs + durationMs
+  const windowFrom = startAt + rampMs + settleMs
+  const windowTo = leaveAt
+  const plans = Array.from({ length: workerCount }, () => ({ baseUrl, players: [], dropIntervalMs, bet: options.bet ?? 10, drainMs, windowFrom, windowTo }))
+  for (let i = 0; i < players; i++) {
+    plans[i % workerCount].players.push({ room: rooms[i % rooms.length], connectAt: startAt + (players > 1 ? i / players : 0) * rampMs, leaveAt })
+  }
+
+  const window = {}
+  const read = () => ({ at: Date.now(), cpu: process.cpuUsage() })
+  const timers = [
+    setTimeout(() => { window.from = read(); options.window?.start?.() }, windowFrom - Date.now()),
+    setTimeout(() => { window.to = read(); options.window?.end?.() }, windowTo - Date.now())
+  ]
+  const deadline = leaveAt + drainMs + DEADLINE_SLACK_MS
+  let results
+  try {
+    results = await Promise.all(plans.map((plan) => runWorker(plan, deadline - Date.now())))
+  } finally {
+    for (const timer of timers) clearTimeout(timer)
+  }
+  if (!window.to) window.to = read()
+  if (!window.from) window.from = window.to
+  return summarize({ options, baseUrl, rooms, offered: offered.length, workerCount, results, window, dropIntervalMs })
+}
+
+/** Runs one worker to its report; a worker that does not report in time is terminated and reported as failed. */
+function runWorker (plan, timeoutMs) {
+  return new Promise((resolve) => {
+    const worker = new Worker(WORKER_URL, { workerData: { leanPlan: plan } })
+    let result = null
+    const timer = setTimeout(() => {
+      result ??= failedWorker(plan, 'X_GENERATOR_TIMEOUT', `worker did not finish within ${Math.round(timeoutMs / 1000)} s`)
+      worker.terminate()
+    }, timeoutMs)
+    worker.once('message', (message) => {
+      result ??= message
+      worker.terminate()
+    })
+    worker.once('error', (error) => { result ??= failedWorker(plan, 'X_GENERATOR', error.stack) })
+    worker.once('exit', () => {
+      clearTimeout(timer)
+      resolve(result ?? failedWorker(plan, 'X_GENERATOR', 'worker exited without reporting'))
+    })
+  })
+}
+
+function failedWorker (plan, code, detail) {
+  return {
+    players: plan.players.length, joined: 0, dropsSent: 0, dropsAcked: 0, dropsRefused: 0, dropsSettled: 0, unsettled: 0, balanceMismatches: 0,
+    frames: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [] }
+  }
+}
+
+function summarize ({ options, baseUrl, rooms, offered, workerCount, results, window, dropIntervalMs }) {
+  const sum = (key) => results.reduce((total, result) => total + result[key], 0)
+  const errors = {}
+  for (const result of results) for (const [code, count] of Object.entries(result.errors)) errors[code] = (errors[code] ?? 0) + count
+  const concat = (key) => {
+    const arrays = results.map((result) => result.samples[key])
+    const all = new Float64Array(arrays.reduce((total, array) => total + array.length, 0))
+    let at = 0
+    for (const array of arrays) { all.set(array, at); at += array.length }
+    return all
+  }
+  const ack = concat('ackMs')
+  const settled = concat('settledMs')
+  const overhead = concat('settleOverheadMs')
+  const steadyAck = concat('steadyAckMs')
+  const steadySettled = concat('steadySettledMs')
+
+  // The steady window, as each worker counted it.
+  let windowFrames = 0
+  let windowText = 0
+  let windowBytes = 0
+  const perWorker = []
+  for (const { window: w } of results) {
+    if (!w.from || !w.to) continue
+    const frames = w.to.frames - w.from.frames
+    const text = w.to.textMessages - w.from.textMessages
+    windowFrames += frames
+    windowText += text
+    windowBytes += w.to.bytes - w.from.bytes
+    const cpuS = w.from.cpuS !== null && w.to.cpuS !== null ? w.to.cpuS - w.from.cpuS : null
+    perWorker.push({ cpuS, received: frames + text, usPerFrame: cpuS !== null && frames + text > 0 ? cpuS * 1e6 / (frames + text) : null })
+  }
+  const windowS = (window.to.at - window.from.at) / 1000
+  const cpu = { user: window.to.cpu.user - window.from.cpu.user, system: window.to.cpu.system - window.from.cpu.system }
+  const cpuS = (cpu.user + cpu.system) / 1e6
+  const received = windowFrames + windowText
+  const errorCount = Object.values(errors).reduce((total, count) => total + count, 0)
+  const dropsSent = sum('dropsSent')
+  const dropsAcked = sum('dropsAcked')
+  const dropsSettled = sum('dropsSettled')
+  const unsettled = sum('unsettled')
+  const joined = sum('joined')
+  const players = options.players
+  const failures = []
+  if (errorCount > 0) failures.push(`${errorCount} errors`)
+  if (joined !== players) failures.push(`${joined} of ${players} players joined`)
+  if (unsettled > 0) failures.push(`${unsettled} drops unsettled`)
+  if (dropsAcked !== dropsSent) failures.push(`${dropsSent - dropsAcked} of ${dropsSent} drops not acknowledged`)
+  if (dropsSettled !== dropsAcked) failures.push(`${dropsAcked - dropsSettled} of ${dropsAcked} acknowledged drops not settled`)
+  if (dropIntervalMs > 0 && dropsSent === 0) failures.push('no drop was sent')
+  if (received === 0) failures.push('no frame received in the steady window')
+  return {
+    passed: failures.length === 0,
+    failures,
+    baseUrl,
+    players,
+    joined,
+    rooms: rooms.length,
+    roomsOffered: offered,
+    workers: workerCount,
+    dropIntervalMs,
+    dropsSent,
+    dropsAcked,
+    dropsRefused: sum('dropsRefused'),
+    dropsSettled,
+    unsettled,
+    balanceMismatches: sum('balanceMismatches'),
+    errors,
+    errorCount,
+    firstErrors: results.flatMap((result) => result.firstErrors).slice(0, 10),
+    ackMs: { p50: quantile(ack, 0.5), p99: quantile(ack, 0.99), count: ack.length },
+    settledMs: { p50: quantile(settled, 0.5), p99: quantile(settled, 0.99), count: settled.length },
+    settleOverheadMs: { p50: quantile(overhead, 0.5), p99: quantile(overhead, 0.99) },
+    /** The same, for the drops sent in the steady window only (no connects, no warm-up). */
+    steady: {
+      ackMs: { p50: quantile(steadyAck, 0.5), p99: quantile(steadyAck, 0.99), count: steadyAck.length },
+      settledMs: { p50: quantile(steadySettled, 0.5), p99: quantile(steadySettled, 0.99), count: steadySettled.length }
+    },
+    window: {
+      seconds: windowS,
+      frames: windowFrames,
+      textMessages: windowText,
+      received,
+      framesPerSecondPerPlayer: windowS > 0 ? received / windowS / players : null,
+      bytesPerSecondPerPlayer: windowS > 0 ? windowBytes / windowS / players : null,
+      receivedPerSecond: windowS > 0 ? received / windowS : null
+    },
+    cpu: {
+      seconds: cpuS,
+      userS: cpu.user / 1e6,
+      systemS: cpu.system / 1e6,
+      shareOfCore: windowS > 0 ? cpuS / windowS : null,
+      usPerFrame: received > 0 ? cpuS * 1e6 / received : null,
+      userUsPerFrame: received > 0 ? cpu.user / received : null,
+      perWorker
+    }
+  }
+}
+
+const round = (value, digits = 1) => value === null || value === undefined ? '–' : Number(value).toFixed(digits)
+
+/**
+ * The figures in words, one per line.
+ * @param {Awaited<ReturnType<typeof runLeanLoad>>} summary
+ * @returns {string}
+ */
+export function formatLeanSummary (summary) {
+  const s = summary
+  const errors = Object.entries(s.errors).map(([code, count]) => `${code} ${count}`).join(', ') || 'none'
+  const lines = [
+    `lean generator: ${s.players} players (${s.joined} joined) in ${s.rooms} rooms${s.roomsOffered < s.rooms ? ` (server offers ${s.roomsOffered})` : ''}, ${s.workers} worker thread${s.workers === 1 ? '' : 's'}, one drop per ${s.dropIntervalMs} ms: ${s.passed ? 'PASS' : `FAIL (${s.failures.join('; ')})`}`,
+    `  drops: ${s.dropsSent} sent, ${s.dropsAcked} acknowledged, ${s.dropsSettled} settled, ${s.dropsRefused} refused, ${s.unsettled} unsettled; balance mismatches ${s.balanceMismatches}; errors: ${errors}`,
+    `  drop → dropped p50 / p99: ${round(s.ackMs.p50)} / ${round(s.ackMs.p99)} ms`,
+    `  drop → settled p50 / p99: ${round(s.settledMs.p50, 0)} / ${round(s.settledMs.p99, 0)} ms (minus the fall: ${round(s.settleOverheadMs.p50)} / ${round(s.settleOverheadMs.p99)} ms)`,
+    `  drops sent in the steady window (${s.steady.ackMs.count}): drop → dropped p50 / p99 ${round(s.steady.ackMs.p50)} / ${round(s.steady.ackMs.p99)} ms, drop → settled ${round(s.steady.settledMs.p50, 0)} / ${round(s.steady.settledMs.p99, 0)} ms`,
+    `  per player: ${round(s.window.framesPerSecondPerPlayer, 2)} frames/s, ${round(s.window.bytesPerSecondPerPlayer / 1000, 2)} KB/s payload (steady window ${round(s.window.seconds)} s, ${Math.round(s.window.receivedPerSecond ?? 0)} frames/s in all)`,
+    `  generator CPU: ${round(s.cpu.usPerFrame, 2)} µs per frame received (user ${round(s.cpu.userUsPerFrame, 2)} µs), ${round((s.cpu.shareOfCore ?? 0) * 100)}% of a core; per worker thread: ${s.cpu.perWorker.map((w) => `${round(w.usPerFrame, 2)} µs`).join(', ') || '–'}`
+  ]
+  for (const line of s.firstErrors) lines.push(`  error: ${line.split('\n')[0]}`)
+  return lines.join('\n')
+}

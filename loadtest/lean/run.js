@@ -1,0 +1,134 @@
+#!/usr/bin/env node
+/**
+ * `npm run loadtest:lean -- [options]`: the lean load generator against a
+ * fresh server (server/server.js as a child process on 127.0.0.1, a fresh
+ * SQLite ledger, per-address limits lifted) or against TARGET_URL
+ * (loopback only). Prints the generator's figures and, for a server it
+ * started, the server's CPU per frame sent over the same steady window.
+ * Exit code 1 when a check failed, 2 for a bad command line.
+ */
+import fs from 'node:fs'
+import os from 'node:os'
+import path from 'node:path'
+import { parseCommandLine } from '../../cli/command-line.js'
+import { UsageError } from '../../cli/usage-error.js'
+import { parseDuration, loopbackTarget } from '../driver/cli-args.js'
+import { startServer } from '../driver/server-process.js'
+import { readProcStat } from '../driver/metrics-sampler.js'
+import { summarizeCpuProfile } from '../driver/cpu-profile-summary.js'
+import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
+import { pinSelf } from './measure-server.js'
+
+export const USAGE = `usage: npm run loadtest:lean -- [options]
+
+  --players N            simulated players (default 100)
+  --rooms N              rooms they are spread over (default 100)
+  --duration TIME        steady phase (default 30s)
+  --ramp TIME            players connect spread over this (default 10s)
+  --drop-interval TIME   one drop per player this often (default 2s; 0 = never)
+  --drain TIME           how long a leaving player waits for its last settles (default 15s)
+  --bet N                credits per drop (default 10)
+  --workers N            worker threads (default 1)
+  --pin                  the server on CPU 0, the generator on CPU 1 (taskset)
+  --profile              run the server under node --cpu-prof and print where its time went in the steady window
+  -h, --help
+
+TARGET_URL=http://127.0.0.1:PORT runs against a server already running there (loopback only).`
+
+const OPTIONS = {
+  help: { type: 'boolean', short: 'h' },
+  players: { type: 'string' },
+  rooms: { type: 'string' },
+  duration: { type: 'string' },
+  ramp: { type: 'string' },
+  'drop-interval': { type: 'string' },
+  drain: { type: 'string' },
+  bet: { type: 'string' },
+  workers: { type: 'string' },
+  pin: { type: 'boolean', default: false },
+  profile: { type: 'boolean', default: false }
+}
+
+function positiveInteger (raw, name) {
+  const value = Number(raw)
+  if (!Number.isInteger(value) || value < 1) throw new UsageError(`--${name} must be a positive integer, got ${raw}`)
+  return value
+}
+
+/** @param {string[]} argv */
+export function parseLeanArgs (argv) {
+  const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
+  if (values.help) return { help: true }
+  const optional = (name, parse, fallback) => values[name] === undefined ? fallback : parse(values[name], name)
+  return {
+    help: false,
+    players: optional('players', positiveInteger, 100),
+    rooms: optional('rooms', positiveInteger, 100),
+    durationS: optional('duration', parseDuration, 30),
+    rampS: optional('ramp', parseDuration, 10),
+    dropIntervalMs: optional('drop-interval', parseDuration, 2) * 1000,
+    drainS: optional('drain', parseDuration, 15),
+    bet: optional('bet', positiveInteger, 10),
+    workers: optional('workers', positiveInteger, 1),
+    pin: values.pin,
+    profile: values.profile
+  }
+}
+
+async function main () {
+  let options
+  try {
+    options = parseLeanArgs(process.argv.slice(2))
+  } catch (error) {
+    if (!(error instanceof UsageError)) throw error
+    console.error(`${error.message}\n\n${USAGE}`)
+    process.exit(2)
+  }
+  if (options.help) return console.log(USAGE)
+  const target = process.env.TARGET_URL ? loopbackTarget(process.env.TARGET_URL) : null
+  let server = null
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-lean-'))
+  if (!target) {
+    server = await startServer({ dataDir: dir, logFile: path.join(dir, 'server.log'), cpus: options.pin ? '0' : undefined, profileDir: options.profile ? path.join(dir, 'profile') : undefined })
+    console.log(`server: pid ${server.pid} at ${server.url}${options.pin ? ', pinned to CPU 0' : ''} (log: ${path.join(dir, 'server.log')})`)
+  }
+  if (options.pin && !pinSelf('1')) console.log('taskset not available: the generator is not pinned')
+  const readServer = () => server ? { at: performance.now(), ns: process.hrtime.bigint(), stat: readProcStat(server.pid) } : null
+  let serverFrom = null
+  let serverTo = null
+  let summary
+  try {
+    summary = await runLeanLoad({
+      ...options,
+      baseUrl: target ?? server.url,
+      window: { start: () => { serverFrom = readServer() }, end: () => { serverTo = readServer() } }
+    })
+  } finally {
+    if (server) await server.stop()
+  }
+  console.log(formatLeanSummary(summary))
+  if (serverFrom?.stat && serverTo?.stat) {
+    const seconds = (serverTo.at - serverFrom.at) / 1000
+    const cpuS = serverTo.stat.cpuS - serverFrom.stat.cpuS
+    console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received`)
+  }
+  if (options.profile && server && serverFrom && serverTo) printProfile(path.join(dir, 'profile'), serverFrom.ns, serverTo.ns)
+  process.exitCode = summary.passed ? 0 : 1
+}
+
+/** Where the server's time went between two process.hrtime readings (V8 profiles use the same monotonic clock, in µs). */
+function printProfile (dir, fromNs, toNs) {
+  const file = fs.existsSync(dir) ? fs.readdirSync(dir).find((name) => name.endsWith('.cpuprofile')) : null
+  if (!file) return console.log(`no .cpuprofile in ${dir}`)
+  const profile = JSON.parse(fs.readFileSync(path.join(dir, file), 'utf8'))
+  const summary = summarizeCpuProfile(profile, { top: 20, from: Number(fromNs / 1000n) - profile.startTime, to: Number(toNs / 1000n) - profile.startTime })
+  const pct = (share) => `${(share * 100).toFixed(1)}%`.padStart(6)
+  console.log(`\nserver profile (${path.join(dir, file)}), steady window, ${summary.totalMs.toFixed(0)} ms sampled; share of wall time by area:`)
+  for (const area of summary.areas.slice(0, 12)) console.log(`  ${pct(area.share)}  ${area.area}`)
+  console.log('self time, top functions:')
+  for (const entry of summary.selfTop) console.log(`  ${pct(entry.share)}  ${entry.name}`)
+  console.log('inclusive time, our functions:')
+  for (const entry of summary.inclusiveTop.slice(0, 15)) console.log(`  ${pct(entry.share)}  ${entry.name}`)
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === new URL(import.meta.url).pathname) await main()

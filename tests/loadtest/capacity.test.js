@@ -1,0 +1,76 @@
+import { describe, it, expect } from 'vitest'
+import fs from 'node:fs'
+import os from 'node:os'
+import path from 'node:path'
+import { stepFigures, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER } from '../../loadtest/lean/capacity.js'
+import { measureFloor } from '../../loadtest/lean/measure-server.js'
+
+/** measureOurs()'s shape, with the figures that decide a step. */
+function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {} } = {}) {
+  return {
+    players: 2000,
+    serverShare: 0.8,
+    serverUsPerFrame: 19,
+    othersShare: 0.05,
+    analysis: { tick: { p99: tickP99 }, tickLag: { p99: lagP99 }, memory: { rssPerClient: 60_000 }, serverErrors },
+    summary: {
+      steady: { ackMs: { p50: 10, p99: ackP99 }, settledMs: { p50: 2500, p99: 4000 } },
+      ackMs: { p99: ackP99 },
+      dropsSent: 100,
+      dropsSettled: settled,
+      unsettled,
+      errorCount: errors,
+      window: { framesPerSecondPerPlayer: 21, bytesPerSecondPerPlayer: 3800 },
+      cpu: { shareOfCore: 0.4, usPerFrame: 9.5 }
+    }
+  }
+}
+
+describe('capacity steps', () => {
+  it('holds only when every criterion does, and names the ones that fail', () => {
+    const floor = { serverUsPerFrame: 10 }
+    expect(stepFigures(ours(), floor)).toMatchObject({ holds: true, failed: [], ratio: 1.9 })
+    expect(stepFigures(ours({ tickP99: 0.009 }), floor).failed).toEqual(['tick p99 < 8 ms'])
+    expect(stepFigures(ours({ lagP99: 0.02 }), floor).failed).toEqual(['tick lag p99 < 16.7 ms'])
+    expect(stepFigures(ours({ errors: 1 }), floor).failed).toEqual(['0 errors'])
+    expect(stepFigures(ours({ serverErrors: { E_SLOW_CONSUMER: 2 } }), floor).failed).toEqual(['0 errors'])
+    expect(stepFigures(ours({ settled: 99, unsettled: 1 }), floor).failed).toEqual(['every drop settled'])
+    expect(stepFigures(ours({ ackP99: 250 }), null)).toMatchObject({ failed: ['drop → dropped p99 < 250 ms'], ratio: null })
+  })
+
+  it('writes the table between the markers, replacing the last one, or appends a section', () => {
+    const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-capacity-')), 'RESULTS.md')
+    fs.writeFileSync(file, `# Results\n\nbefore\n\n${BEGIN_MARKER}\nold table\n${END_MARKER}\n\nafter\n`)
+    const steps = [stepFigures(ours(), { serverUsPerFrame: 10 }), stepFigures({ ...ours({ ackP99: 300 }), players: 2500 }, { serverUsPerFrame: 10 })]
+    const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 30, pinned: true, date: new Date('2026-12-01T20:00:00Z') })
+    expect(markdown).toContain('**Most players on one server process with every criterion met: 2,000**')
+    expect(markdown).toContain('| 2,500 |')
+    expect(markdown).toContain('fails: drop → dropped p99 < 250 ms')
+    writeBetweenMarkers(file, markdown)
+    const text = fs.readFileSync(file, 'utf8')
+    expect(text).not.toContain('old table')
+    expect(text.startsWith('# Results\n\nbefore\n')).toBe(true)
+    expect(text.endsWith('\n\nafter\n')).toBe(true)
+    expect(text).toContain(markdown)
+    fs.writeFileSync(file, '# Results\n')
+    writeBetweenMarkers(file, 'table')
+    expect(fs.readFileSync(file, 'utf8')).toBe(`# Results\n\n## Capacity (npm run loadtest:capacity)\n\n${BEGIN_MARKER}\ntable\n${END_MARKER}\n`)
+  })
+
+  it('reads its command line', () => {
+    expect(parseCapacityArgs(['--steps', '1000, 2000', '--duration', '20s', '--all', '--no-results'])).toMatchObject({ steps: [1000, 2000], durationS: 20, all: true, writeResults: false, rooms: 100 })
+    expect(() => parseCapacityArgs(['--steps', '1000,x'])).toThrow(/positive integer/)
+  })
+})
+
+describe('the WebSocket floor', () => {
+  it('sends every client a frame every 50 ms and measures the bare server per frame', async () => {
+    const floor = await measureFloor({ clients: 20, seconds: 1, pin: false })
+    expect(floor.connected).toBe(20)
+    // 20 clients × 20 frames/s over about a second (fewer when the machine is busy, never more).
+    expect(floor.frames).toBeGreaterThanOrEqual(20)
+    expect(floor.frames).toBeLessThanOrEqual(20 * 20 * floor.seconds * 1.5)
+    expect(floor.serverCpuS).toBeGreaterThanOrEqual(0)
+    expect(floor.serverUsPerFrame).toBeGreaterThanOrEqual(0)
+  })
+})

@@ -1,0 +1,109 @@
+import { describe, it, expect } from 'vitest'
+import { LeanPlayer, PlayerStats, frameTick, milli } from '../../loadtest/lean/lean-player.js'
+import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
+
+function player ({ balance = 100 } = {}) {
+  const stats = new PlayerStats()
+  const sent = []
+  let clock = 0
+  const p = new LeanPlayer({ room: '16-medium.2', bet: 10, stats, send: (text) => sent.push(JSON.parse(text)), now: () => clock })
+  p.receiveText(JSON.stringify({ type: 'welcome', playerId: 'p1', balance }), 0)
+  p.receiveText(JSON.stringify({ type: 'joined', room: '16-medium.2', snapshotEvery: 3 }), 0)
+  return { p, stats, sent, at: (t) => { clock = t } }
+}
+
+const snapshot = (tick) => encodeSnapshot(tick, new Uint8Array([1, 0, 1]), 3, new Float64Array([10, 0, 20]), new Float64Array([30, 0, 40]))
+
+describe('LeanPlayer', () => {
+  it('joins its room on welcome and sends drops with increasing refs once joined', () => {
+    const { p, sent, stats } = player()
+    expect(sent[0]).toEqual({ type: 'join', room: '16-medium.2' })
+    expect(p.drop()).toBe(true)
+    expect(p.drop()).toBe(true)
+    expect(sent.slice(1)).toEqual([{ type: 'drop', bet: 10, ref: 1 }, { type: 'drop', bet: 10, ref: 2 }])
+    p.leave()
+    expect(p.drop()).toBe(false)
+    expect(stats.dropsSent).toBe(2)
+  })
+
+  it('follows the balance through dropped and settled and times both', () => {
+    const { p, stats, at } = player({ balance: 100 })
+    at(1000)
+    p.drop()
+    p.receiveText(JSON.stringify({ type: 'dropped', player: 'p1', ref: 1, dropId: 'd1', bet: 10, balance: 90 }), 1020)
+    expect(p.drained).toBe(false)
+    p.receiveText(JSON.stringify({ type: 'settled', player: 'p1', dropId: 'd1', bet: 10, multiplier: 1.234, payout: 12.34, ticks: 121, balance: 102.34 }), 3100)
+    expect(stats.errorCount).toBe(0)
+    expect(p.drained).toBe(true)
+    expect(p.balance).toBe(milli(102.34))
+    expect(stats.ackMs.toArray()).toEqual(new Float64Array([20]))
+    expect(stats.settledMs.toArray()).toEqual(new Float64Array([2100]))
+    expect(stats.settleOverheadMs.toArray()[0]).toBeCloseTo(100, 6)
+    expect([stats.dropsAcked, stats.dropsSettled]).toEqual([1, 1])
+  })
+
+  it('counts a balance that does not follow, a wrong payout, unknown drops and settles', () => {
+    const { p, stats } = player({ balance: 100 })
+    p.drop()
+    p.receiveText(JSON.stringify({ type: 'dropped', player: 'p1', ref: 1, dropId: 'd1', bet: 10, balance: 91 }), 1)
+    p.receiveText(JSON.stringify({ type: 'settled', player: 'p1', dropId: 'd1', bet: 10, multiplier: 2, payout: 19.999, ticks: 60, balance: 110.999 }), 2)
+    p.receiveText(JSON.stringify({ type: 'dropped', player: 'p1', ref: 77, dropId: 'd9', bet: 10, balance: 100.999 }), 3)
+    p.receiveText(JSON.stringify({ type: 'settled', player: 'p1', dropId: 'd8', bet: 10, multiplier: 0, payout: 0, ticks: 60, balance: 100.999 }), 4)
+    expect(Object.fromEntries(stats.errors)).toEqual({ X_BALANCE_MISMATCH: 1, X_BAD_PAYOUT: 1, X_UNKNOWN_DROP: 1, X_UNKNOWN_SETTLE: 1 })
+    expect(stats.balanceMismatches).toBe(1)
+  })
+
+  it('ignores the other players\' events and counts error frames, freeing a refused drop', () => {
+    const { p, stats } = player()
+    p.receiveText(JSON.stringify({ type: 'dropped', player: 'p2', ref: 1, dropId: 'x', bet: 10, balance: 5 }), 1)
+    p.drop()
+    p.receiveText(JSON.stringify({ type: 'error', code: 'E_RATE_LIMITED', message: 'slow down', ref: 1 }), 2)
+    expect(Object.fromEntries(stats.errors)).toEqual({ E_RATE_LIMITED: 1 })
+    expect(stats.dropsRefused).toBe(1)
+    expect(p.drained).toBe(true)
+  })
+
+  it('counts drops still pending or in flight when the socket closes, and a close it did not ask for', () => {
+    const { p, stats } = player()
+    p.drop()
+    p.drop()
+    p.receiveText(JSON.stringify({ type: 'dropped', player: 'p1', ref: 1, dropId: 'd1', bet: 10, balance: 90 }), 1)
+    p.closed(1013, false)
+    expect(stats.unsettled).toBe(2)
+    expect(Object.fromEntries(stats.errors)).toEqual({ WS_CLOSE_1013: 1 })
+    p.closed(1013, false)
+    expect(stats.finished).toBe(1)
+  })
+
+  it('counts a player that leaves before it joined its room', () => {
+    const stats = new PlayerStats()
+    const p = new LeanPlayer({ room: 'r', bet: 10, stats, send: () => {} })
+    p.receiveText(JSON.stringify({ type: 'welcome', playerId: 'p1', balance: 100 }), 0)
+    p.closed(1000, true)
+    expect(Object.fromEntries(stats.errors)).toEqual({ X_NOT_JOINED: 1 })
+    const { p: joined, stats: joinedStats } = player()
+    joined.closed(1000, true)
+    expect(joinedStats.errorCount).toBe(0)
+  })
+
+  it('reads snapshot ticks from room frames and bare snapshots, and counts ticks out of order', () => {
+    const { p, stats } = player()
+    const room = encodeRoomFrame('[{"type":"dropped","player":"p2"}]', snapshot(300))
+    expect(frameTick(room, 0, room.length)).toBe(300)
+    expect(frameTick(snapshot(2 ** 32 - 1), 0, 12)).toBe(2 ** 32 - 1)
+    const padded = new Uint8Array(room.length + 4)
+    padded.set(room, 4)
+    expect(frameTick(padded, 4, padded.length)).toBe(300)
+    expect(frameTick(new Uint8Array([3, 0, 0]), 0, 3)).toBe(-1)
+    expect(frameTick(room, 0, 8)).toBe(-1)
+    const textBytes = stats.bytes
+    p.receiveBinary(room, 0, room.length)
+    const next = encodeRoomFrame('[]', snapshot(303))
+    p.receiveBinary(next, 0, next.length)
+    p.receiveBinary(room, 0, room.length)
+    p.receiveBinary(new Uint8Array([9]), 0, 1)
+    expect(stats.frames).toBe(4)
+    expect(stats.bytes - textBytes).toBe(room.length * 2 + next.length + 1)
+    expect(Object.fromEntries(stats.errors)).toEqual({ X_TICK_ORDER: 1, X_BAD_FRAME: 1 })
+  })
+})
