@@ -12,7 +12,7 @@ import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createHash } from 'node:crypto'
 import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
 import { launchChromium, waitInPage } from './helpers/browser.js'
-import { openPlayer, screenshotBoth, expectNotBlank, PHONE } from './helpers/player-page.js'
+import { openPlayer, screenshotBoth, expectNotBlank, PHONE, tamperSettledStateHash } from './helpers/player-page.js'
 
 let server
 let chromium
@@ -136,19 +136,7 @@ describe('player page defects (issue #12)', () => {
   it('cuts no label off: history sidebar and room column, multipliers on a phone, the operator comparison table', async () => {
     // A tampered settlement gives the history its mismatch mark, the longest thing in it.
     const page = await chromium.newPage({ viewport: { width: 1366, height: 800 } })
-    await page.routeWebSocket(/\/ws\?/, (ws) => {
-      const upstream = ws.connectToServer()
-      let tampered = false
-      upstream.onMessage((message) => {
-        if (!tampered && typeof message === 'string' && message.startsWith('{"type":"settled"')) {
-          tampered = true
-          const settled = JSON.parse(message)
-          settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
-          message = JSON.stringify(settled)
-        }
-        ws.send(message)
-      })
-    })
+    await tamperSettledStateHash(page, { once: true })
     await page.goto(`${server.base}/`)
     await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
     await page.selectOption('#risk', 'medium')

@@ -15,6 +15,7 @@ import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { startArenaServer } from './helpers/arena-server.js'
 import { launchChromium, waitInPage } from './helpers/browser.js'
+import { canvasStats, tamperSettledStateHash } from './helpers/player-page.js'
 import { imageStats } from './helpers/png.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
@@ -41,21 +42,6 @@ async function screenshot (page, name, options = {}) {
   writeFileSync(file, png)
   console.info(`[e2e] screenshot ${file}`)
   return imageStats(png)
-}
-
-/** Distinct colours and lit pixels read back from the board canvas itself. */
-function canvasStats (page, selector = '#board') {
-  return page.evaluate((selector) => {
-    const canvas = document.querySelector(selector)
-    const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height)
-    const colors = new Set()
-    let bright = 0
-    for (let i = 0; i < data.length; i += 4) {
-      colors.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2])
-      if (data[i] + data[i + 1] + data[i + 2] > 600) bright++
-    }
-    return { width: canvas.width, height: canvas.height, colors: colors.size, bright }
-  }, selector)
 }
 
 async function openPlayer (options = {}) {
@@ -214,18 +200,7 @@ describe('player page in Chromium', () => {
   it('warns loudly when the server\'s outcome is not what the engine computes', async () => {
     const page = await chromium.newPage()
     // A man in the middle alters the final state hash in `settled` messages.
-    await page.routeWebSocket(/\/ws\?/, (ws) => {
-      const upstream = ws.connectToServer()
-      upstream.onMessage((message) => {
-        // Only the player's own `settled` (the room's `events` messages carry settled events inside).
-        if (typeof message === 'string' && message.startsWith('{"type":"settled"')) {
-          const settled = JSON.parse(message)
-          settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
-          message = JSON.stringify(settled)
-        }
-        ws.send(message)
-      })
-    })
+    await tamperSettledStateHash(page)
     await page.goto(`${server.base}/`)
     await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
     await page.click('#drop')

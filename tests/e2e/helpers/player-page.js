@@ -106,3 +106,24 @@ export function canvasStats (page, selector = '#board') {
     return { width: canvas.width, height: canvas.height, colors: colors.size, bright }
   }, selector)
 }
+
+/**
+ * A man in the middle: alters the final state hash in the player's own
+ * `settled` messages (not the room's `events`, which carry settled events
+ * inside), all of them or only the first. @param {import('playwright-core').Page} page
+ */
+export function tamperSettledStateHash (page, { once = false } = {}) {
+  let tampered = false
+  return page.routeWebSocket(/\/ws\?/, (ws) => {
+    const upstream = ws.connectToServer()
+    upstream.onMessage((message) => {
+      if (!(once && tampered) && typeof message === 'string' && message.startsWith('{"type":"settled"')) {
+        tampered = true
+        const settled = JSON.parse(message)
+        settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
+        message = JSON.stringify(settled)
+      }
+      ws.send(message)
+    })
+  })
+}
