@@ -1,8 +1,7 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import Redis from 'ioredis'
 import { startPostgres } from '../../tools/postgres-process.js'
-import { GameClient } from '../server/helpers/game-client.js'
-import { startRedis, startNode, query, ledgerMismatches, eventually } from './helpers/cluster.js'
+import { startRedis, startNode, query, ledgerMismatches, eventually, playerSockets } from './helpers/cluster.js'
 
 /**
  * The clustered topology without Docker: a real PostgreSQL, a real Redis
@@ -14,14 +13,14 @@ const START = 100000
 describe('cluster: rooms, redirects, shared balances and takeover', () => {
   let postgres, redis
   const nodes = []
-  const clients = []
+  const { connect, join, closeAll } = playerSockets()
 
   beforeAll(async () => {
     postgres = await startPostgres()
     redis = await startRedis()
   })
   afterAll(async () => {
-    for (const client of clients) await client.close().catch(() => {})
+    await closeAll()
     for (const node of nodes) await node.stop().catch(() => {})
     await redis?.stop()
     await postgres?.stop()
@@ -38,17 +37,6 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     return { databaseUrl, nodes: started }
   }
 
-  async function connect (node, token) {
-    const client = await GameClient.connect(node.wsUrl(token))
-    clients.push(client)
-    return client
-  }
-
-  async function join (client, room) {
-    const ref = `join-${room}-${Math.random()}`
-    client.send({ type: 'join', room, ref })
-    return client.take((m) => m.ref === ref)
-  }
 
   it('lists rooms from any process and redirects a join to the owner', async () => {
     const { nodes: [a, b] } = await cluster(2)

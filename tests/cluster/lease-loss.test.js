@@ -1,8 +1,7 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import Redis from 'ioredis'
 import { startPostgres } from '../../tools/postgres-process.js'
-import { GameClient } from '../server/helpers/game-client.js'
-import { startRedis, startNode, query, ledgerMismatches, eventually } from './helpers/cluster.js'
+import { startRedis, startNode, query, ledgerMismatches, eventually, playerSockets } from './helpers/cluster.js'
 
 /**
  * A process loses a room's lease with drops in flight, and drops still
@@ -16,25 +15,14 @@ const START = 100000
 describe('cluster: a lease lost with drops in flight', () => {
   let postgres, redis
   const nodes = []
-  const clients = []
+  const { connect, join, closeAll } = playerSockets()
   beforeAll(async () => { postgres = await startPostgres(); redis = await startRedis() })
   afterAll(async () => {
-    for (const client of clients) await client.close().catch(() => {})
+    await closeAll()
     for (const node of nodes) await node.stop().catch(() => {})
     await redis?.stop()
     await postgres?.stop()
   })
-
-  async function connect (node, token) {
-    const client = await GameClient.connect(node.wsUrl(token))
-    clients.push(client)
-    return client
-  }
-  async function join (client, room) {
-    const ref = `join-${room}-${Math.random()}`
-    client.send({ type: 'join', room, ref })
-    return client.take((m) => m.ref === ref)
-  }
 
   it('settles every drop exactly once and leaves the whole balance available on the process that lost the room', async () => {
     const databaseUrl = await postgres.createDatabase()
@@ -81,8 +69,7 @@ describe('cluster: a lease lost with drops in flight', () => {
 
     // On A, the whole committed balance can be bet again (nothing stays reserved by the lost room's drops).
     await eventually(async () => {
-      const again = await GameClient.connect(a.wsUrl(alice.token))
-      clients.push(again)
+      const again = await connect(a, alice.token)
       return again.welcome.balance === Number(balance) / 1000 // the ledger holds milli-credits
     }, { timeoutMs: 10_000 })
     const onA2 = await connect(a, alice.token)

@@ -4,9 +4,35 @@ import { fileURLToPath } from 'node:url'
 import { freePort } from '../../../tools/free-port.js'
 import { eventually as pollUntil } from '../../../tools/eventually.js'
 import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
+import { GameClient } from '../../server/helpers/game-client.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../..')
 export const OPERATOR_TOKEN = 'operator-token-for-cluster-tests-0123'
+
+/**
+ * Players' sockets on cluster members, closed together at the end of a test
+ * file: `connect(node, token)` opens one on `node` (anything with
+ * `wsUrl(token)`), `join(client, room)` joins and resolves with the reply
+ * to that join (`joined`, or an error such as E_WRONG_NODE).
+ */
+export function playerSockets () {
+  const clients = []
+  return {
+    async connect (node, token) {
+      const client = await GameClient.connect(node.wsUrl(token))
+      clients.push(client)
+      return client
+    },
+    async join (client, room) {
+      const ref = `join-${room}-${Math.random()}`
+      client.send({ type: 'join', room, ref })
+      return client.take((m) => m.ref === ref)
+    },
+    async closeAll () {
+      for (const client of clients.splice(0)) await client.close().catch(() => {})
+    }
+  }
+}
 
 // One launcher each for the whole project (npm run cluster uses them too).
 export { freePort } from '../../../tools/free-port.js'
