@@ -16,7 +16,8 @@ import path from 'node:path'
 import readline from 'node:readline'
 import { spawn } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
-import { parseArgs, loopbackTarget, UsageError, USAGE } from './driver/cli-args.js'
+import { parseArgs, loopbackTarget, USAGE } from './driver/cli-args.js'
+import { optionsOrExit } from '../cli/usage-error.js'
 import { k6Binary, k6VersionOf } from './driver/k6-binary.js'
 import { startServer } from './driver/server-process.js'
 import { MetricsSampler } from './driver/metrics-sampler.js'
@@ -29,18 +30,7 @@ const HERE = path.dirname(fileURLToPath(import.meta.url))
 const BASELINE_MS = 3000
 const AFTER_MS = 2000
 
-let options
-try {
-  options = parseArgs(process.argv.slice(2))
-} catch (error) {
-  if (!(error instanceof UsageError)) throw error
-  console.error(`${error.message}\n\n${USAGE}`)
-  process.exit(2)
-}
-if (options.help) {
-  console.log(USAGE)
-  process.exit(0)
-}
+const options = optionsOrExit(parseArgs, process.argv.slice(2), USAGE)
 
 let target = null
 let k6

@@ -105,10 +105,10 @@ export function parseArgs (argv) {
   return options
 }
 
-function positiveInteger (raw, name) {
-  const flag = `--${name}`
+/** A whole number ≥ 1 given as --NAME, or a UsageError. @param {string} raw @param {string} name */
+export function positiveInteger (raw, name) {
   const value = Number(raw)
-  if (!Number.isInteger(value) || value < 1) throw new UsageError(`${flag} must be a positive integer, got ${raw}`)
+  if (!Number.isInteger(value) || value < 1) throw new UsageError(`--${name} must be a positive integer, got ${raw}`)
   return value
 }
 

@@ -17,8 +17,8 @@ import fs from 'node:fs'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { parseCommandLine } from '../../cli/command-line.js'
-import { UsageError } from '../../cli/usage-error.js'
-import { parseDuration } from '../driver/cli-args.js'
+import { optionsOrExit } from '../../cli/usage-error.js'
+import { parseDuration, positiveInteger } from '../driver/cli-args.js'
 import { formatLeanSummary } from './lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
 
@@ -63,20 +63,15 @@ const OPTIONS = {
 export function parseCapacityArgs (argv) {
   const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
   if (values.help) return { help: true }
-  const integer = (raw, name) => {
-    const value = Number(raw)
-    if (!Number.isInteger(value) || value < 1) throw new UsageError(`--${name} must be a positive integer, got ${raw}`)
-    return value
-  }
-  const steps = (values.steps ?? '1000,1500,2000,2500,3000,3500,4000').split(',').map((raw) => integer(raw.trim(), 'steps'))
+  const steps = (values.steps ?? '1000,1500,2000,2500,3000,3500,4000').split(',').map((raw) => positiveInteger(raw.trim(), 'steps'))
   return {
     help: false,
     steps,
-    rooms: values.rooms === undefined ? 100 : integer(values.rooms, 'rooms'),
+    rooms: values.rooms === undefined ? 100 : positiveInteger(values.rooms, 'rooms'),
     durationS: parseDuration(values.duration ?? '30s', 'duration'),
     rampS: parseDuration(values.ramp ?? '20s', 'ramp'),
     floorSeconds: parseDuration(values['floor-seconds'] ?? '10s', 'floor-seconds'),
-    workers: values.workers === undefined ? 1 : integer(values.workers, 'workers'),
+    workers: values.workers === undefined ? 1 : positiveInteger(values.workers, 'workers'),
     all: values.all,
     writeResults: !values['no-results']
   }
@@ -154,15 +149,7 @@ export function writeBetweenMarkers (file, body) {
 }
 
 async function main () {
-  let options
-  try {
-    options = parseCapacityArgs(process.argv.slice(2))
-  } catch (error) {
-    if (!(error instanceof UsageError)) throw error
-    console.error(`${error.message}\n\n${USAGE}`)
-    process.exit(2)
-  }
-  if (options.help) return console.log(USAGE)
+  const options = optionsOrExit(parseCapacityArgs, process.argv.slice(2), USAGE)
   const pinned = canPin() && pinSelf('1')
   console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; ${pinned ? 'server on CPU 0, generator on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
   const steps = []

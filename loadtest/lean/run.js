@@ -11,8 +11,8 @@ import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
 import { parseCommandLine } from '../../cli/command-line.js'
-import { UsageError } from '../../cli/usage-error.js'
-import { parseDuration, loopbackTarget } from '../driver/cli-args.js'
+import { optionsOrExit } from '../../cli/usage-error.js'
+import { parseDuration, positiveInteger, loopbackTarget } from '../driver/cli-args.js'
 import { startServer } from '../driver/server-process.js'
 import { readProcStat } from '../driver/metrics-sampler.js'
 import { summarizeCpuProfile } from '../driver/cpu-profile-summary.js'
@@ -49,12 +49,6 @@ const OPTIONS = {
   profile: { type: 'boolean', default: false }
 }
 
-function positiveInteger (raw, name) {
-  const value = Number(raw)
-  if (!Number.isInteger(value) || value < 1) throw new UsageError(`--${name} must be a positive integer, got ${raw}`)
-  return value
-}
-
 /** @param {string[]} argv */
 export function parseLeanArgs (argv) {
   const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
@@ -76,15 +70,7 @@ export function parseLeanArgs (argv) {
 }
 
 async function main () {
-  let options
-  try {
-    options = parseLeanArgs(process.argv.slice(2))
-  } catch (error) {
-    if (!(error instanceof UsageError)) throw error
-    console.error(`${error.message}\n\n${USAGE}`)
-    process.exit(2)
-  }
-  if (options.help) return console.log(USAGE)
+  const options = optionsOrExit(parseLeanArgs, process.argv.slice(2), USAGE)
   const target = process.env.TARGET_URL ? loopbackTarget(process.env.TARGET_URL) : null
   let server = null
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-lean-'))
