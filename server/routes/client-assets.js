@@ -12,6 +12,8 @@ const SHARED_DIRS = {
   charts: fileURLToPath(new URL('../../charts/', import.meta.url))
 }
 const require = createRequire(import.meta.url)
+/** What /vendor/seedrandom.js wraps: seedrandom's ARC4 generator, the function its index.js exports. */
+const SEEDRANDOM_FILE = require.resolve('seedrandom/seedrandom.js')
 
 /**
  * What the browser needs besides client/ to run the very same engine and
@@ -55,7 +57,7 @@ export default async function clientAssetRoutes (app, { clientDir }) {
   if (!fs.existsSync(entry)) return
   let bundle
   try {
-    bundle = moduleFile(await buildPageBundle(entry))
+    bundle = moduleFile(await buildPageBundle(entry, { sharedDirs: SHARED_DIRS, seedrandom: SEEDRANDOM_FILE }))
   } catch (error) {
     // The page still works, one module at a time, if the bundle cannot be built.
     app.log.error({ err: error }, 'could not bundle the player page; serving its modules one by one')
@@ -88,7 +90,7 @@ function sendModule (request, reply, { source, etag }) {
  * `require` is undefined in the browser.
  */
 export function seedrandomModule () {
-  const file = require.resolve('seedrandom/seedrandom.js')
+  const file = SEEDRANDOM_FILE
   const source = fs.readFileSync(file, 'utf8')
   return `// seedrandom ${require('seedrandom/package.json').version} (${path.basename(file)}), wrapped as an ES module by server/routes/client-assets.js\n` +
     'const module = { exports: {} };\n' +

@@ -1,13 +1,5 @@
 import path from 'node:path'
-import { fileURLToPath } from 'node:url'
-import { createRequire } from 'node:module'
 import { build } from 'esbuild'
-
-/** The folders the pages import by absolute URL, served as they are at /NAME/ (client-assets.js). */
-const SHARED_DIRS = ['engine', 'protocol', 'charts']
-const ROOT = fileURLToPath(new URL('../../', import.meta.url))
-/** The same file /vendor/seedrandom.js wraps: seedrandom's ARC4 generator, the function the engine calls. */
-const SEEDRANDOM = createRequire(import.meta.url).resolve('seedrandom/seedrandom.js')
 
 /**
  * The player page's whole module graph as one ES module, built once at
@@ -20,9 +12,12 @@ const SEEDRANDOM = createRequire(import.meta.url).resolve('seedrandom/seedrandom
  * checking the engine, read them there); tests/e2e/chromium-determinism
  * holds the bundled engine to Node's outcome bit for bit.
  * @param {string} entry the page's entry module (client/player.js)
+ * @param {object} sources what client-assets.js serves: the same files go in the bundle
+ * @param {Record<string, string>} sources.sharedDirs URL prefix → folder (`/engine/…` → engine/)
+ * @param {string} sources.seedrandom the file /vendor/seedrandom.js wraps (seedrandom's ARC4 generator, the function the engine calls)
  * @returns {Promise<string>}
  */
-export async function buildPageBundle (entry) {
+export async function buildPageBundle (entry, { sharedDirs, seedrandom }) {
   const result = await build({
     entryPoints: [entry],
     bundle: true,
@@ -35,19 +30,22 @@ export async function buildPageBundle (entry) {
     charset: 'utf8',
     legalComments: 'inline',
     logLevel: 'silent',
-    plugins: [sharedDirsPlugin()]
+    plugins: [sharedFilesPlugin(sharedDirs, seedrandom)]
   })
   return result.outputFiles[0].text
 }
 
-/** Resolves `/engine/…`, `/protocol/…` and `/charts/…` to the repository's folders, as the server serves them. */
-function sharedDirsPlugin () {
-  const filter = new RegExp(`^/(${SHARED_DIRS.join('|')})/`)
+/** Resolves `/engine/…`, `/protocol/…`, `/charts/…` and `seedrandom` to the files the server serves for them. */
+function sharedFilesPlugin (sharedDirs, seedrandom) {
+  const filter = new RegExp(`^/(${Object.keys(sharedDirs).join('|')})/(.*)$`)
   return {
     name: 'plinko-shared-dirs',
     setup (build) {
-      build.onResolve({ filter }, (args) => ({ path: path.join(ROOT, args.path) }))
-      build.onResolve({ filter: /^seedrandom$/ }, () => ({ path: SEEDRANDOM }))
+      build.onResolve({ filter }, (args) => {
+        const [, prefix, file] = filter.exec(args.path)
+        return { path: path.join(sharedDirs[prefix], file) }
+      })
+      build.onResolve({ filter: /^seedrandom$/ }, () => ({ path: seedrandom }))
     }
   }
 }
