@@ -58,6 +58,13 @@ export class Arena {
     this.scheduler.start()
   }
 
+  /** Balls of live drops in flight in every room of this process. */
+  get ballsInFlight () {
+    let count = 0
+    for (const room of this.rooms.values()) count += room.ballsInFlight
+    return count
+  }
+
   /** One tick for every room. */
   tick () {
     let inFlight = 0
@@ -194,7 +201,7 @@ export class Arena {
     this.scheduler.stop()
     const landed = this.drops.landed
     let guard = 0
-    while ([...this.rooms.values()].some((room) => room.ballsInFlight > 0) && guard++ < 100_000) {
+    while (this.ballsInFlight > 0 && guard++ < 100_000) {
       for (const room of this.rooms.values()) if (room.ballsInFlight > 0) room.step(landed)
       this.ledger.flush()
     }

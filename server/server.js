@@ -36,13 +36,6 @@ try {
 }
 if (output.banner) process.stdout.write(startBanner(config, { urls: listenUrls(app.addresses()), logs: output.logs }))
 
-/** Balls in flight in every room of this process. */
-function ballsInFlight () {
-  let count = 0
-  for (const room of app.arena.rooms.values()) count += room.ballsInFlight
-  return count
-}
-
 /** @param {number} n @param {string} noun */
 function count (n, noun) {
   return `${n} ${noun}${n === 1 ? '' : 's'}`
@@ -54,11 +47,11 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
     if (closing) process.exit(1)
     closing = true
     const started = Date.now()
-    const before = { balls: ballsInFlight(), sockets: app.websocketServer.clients.size }
+    const before = { balls: app.arena.ballsInFlight, sockets: app.websocketServer.clients.size }
     app.log.info({ signal, dropsInFlight: before.balls, sockets: before.sockets }, 'shutting down')
     /** The last line: what was settled and closed, and the exit code; then exit. */
     const finish = (exitCode, outcome, extra = {}) => {
-      const left = { balls: ballsInFlight(), sockets: app.websocketServer.clients.size }
+      const left = { balls: app.arena.ballsInFlight, sockets: app.websocketServer.clients.size }
       const report = {
         signal,
         exitCode,

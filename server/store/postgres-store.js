@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -128,7 +128,7 @@ export class PostgresStore {
         const { rows } = await client.query('SELECT id, balance FROM players WHERE id = ANY($1::text[])', [batch.players])
         for (const row of rows) balances.set(row.id, Number(row.balance))
       }
-      return { rejected: new Map(), settled: new Set(batch.settlements.map((s) => s.id)), balances }
+      return wholeBatchCommitted(batch, balances)
     })
   }
 

@@ -69,6 +69,17 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  * @property {string[]} [players] every player the batch touches: the store returns their committed balances
  */
 
+/**
+ * What a single-process store's commitBatch returns: the batch was written
+ * whole (one process owns the ledger, so nothing is refused), with the
+ * touched players' balances as committed.
+ * @param {LedgerBatch} batch @param {Map<string, number>} balances
+ * @returns {import('../game/money.js').CommitOutcome}
+ */
+export function wholeBatchCommitted (batch, balances) {
+  return { rejected: new Map(), settled: new Set(batch.settlements.map((s) => s.id)), balances }
+}
+
 /** A player with its active seed, as the account book caches it. */
 export function accountFromRow (row) {
   return {

@@ -1,3 +1,5 @@
+import { wholeBatchCommitted } from './records.js'
+
 /**
  * Every write of the SQLite ledger, as transactions prepared on one
  * connection: the tick's batch (new drops, settlements, credits, nonces,
@@ -46,7 +48,7 @@ export function prepareWrites (db) {
       for (const c of batch.clientSeeds) clientSeed.run(c.clientSeed, c.playerId)
       const balances = new Map()
       for (const playerId of batch.players ?? []) balances.set(playerId, Number(balanceOf.get(playerId)))
-      return { rejected: new Map(), settled: new Set(batch.settlements.map((s) => s.id)), balances }
+      return wholeBatchCommitted(batch, balances)
     }),
     createPlayer: db.transaction(({ id, tokenHash, balance, clientSeed, createdAt, seed }) => {
       insertPlayer.run(id, tokenHash, balance, clientSeed, createdAt)
