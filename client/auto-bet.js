@@ -3,8 +3,11 @@
  * changes after a win or a loss) and its running state. No DOM and no
  * timers: the page asks `nextBet()` before each drop, reports each sent
  * drop and each settled result, and stops when `stopReason` is set.
- * A win is a payout above the bet.
+ * A win is a payout above the bet. The profit is summed in integer
+ * milli-credits, so a stop on profit or loss compares exact amounts.
  */
+
+import { toCredits, toMilli } from '/protocol/payout.js'
 
 /**
  * @typedef {object} AutoBetRules
@@ -24,7 +27,7 @@ export class AutoBet {
     this.remaining = rules.count
     this.sent = 0
     this.settled = 0
-    this.profit = 0
+    this.profitMilli = 0
     this.bet = rules.baseBet
     /** @type {null | 'done' | 'profit' | 'loss' | 'balance' | 'disconnected' | 'stopped' | 'refused'} */
     this.stopReason = null
@@ -34,6 +37,11 @@ export class AutoBet {
     this.dropIds = new Set()
     /** @type {{ bet: number, payout: number, win: boolean, betBefore: number, betAfter: number, profit: number }[]} each settled result, in order */
     this.log = []
+  }
+
+  /** Credits won minus credits wagered by this run's settled drops. */
+  get profit () {
+    return toCredits(this.profitMilli)
   }
 
   get running () {
@@ -67,15 +75,15 @@ export class AutoBet {
    */
   result ({ bet, payout }) {
     this.settled++
-    this.profit += payout - bet
+    this.profitMilli += toMilli(payout) - toMilli(bet)
     const rule = payout > bet ? this.rules.onWin : this.rules.onLoss
     const before = this.bet
     this.bet = rule.mode === 'increase' ? Math.round(this.bet * (1 + rule.percent / 100)) : this.rules.baseBet
     this.log.push({ bet, payout, win: payout > bet, betBefore: before, betAfter: this.bet, profit: this.profit })
     // Only a running run stops on its limits (one that finished sending just settles its last balls).
     if (this.stopReason !== null) return null
-    if (this.rules.stopProfit !== null && this.profit >= this.rules.stopProfit) this.stopReason = 'profit'
-    else if (this.rules.stopLoss !== null && -this.profit >= this.rules.stopLoss) this.stopReason = 'loss'
+    if (this.rules.stopProfit !== null && this.profitMilli >= toMilli(this.rules.stopProfit)) this.stopReason = 'profit'
+    else if (this.rules.stopLoss !== null && -this.profitMilli >= toMilli(this.rules.stopLoss)) this.stopReason = 'loss'
     else return null
     return this.stopReason
   }

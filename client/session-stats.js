@@ -1,3 +1,4 @@
+import { toCredits, toMilli } from '/protocol/payout.js'
 import { formatAmount, formatMultiplier, formatSigned } from './dom.js'
 
 const SVG = 'http://www.w3.org/2000/svg'
@@ -7,7 +8,8 @@ const MAX_POINTS = 400
 /**
  * The session panel: wagered, profit, drops and best multiplier since the
  * page opened (or the last reset), and a small chart of the profit after
- * each drop.
+ * each drop. Sums are kept in integer milli-credits (as the ledger keeps
+ * them), so a session's profit is exact, not a float sum of decimals.
  */
 export class SessionStats {
   /** @param {{ wagered: HTMLElement, profit: HTMLElement, drops: HTMLElement, best: HTMLElement, chart: SVGSVGElement }} views */
@@ -17,8 +19,8 @@ export class SessionStats {
   }
 
   reset () {
-    this.wagered = 0
-    this.profit = 0
+    this.wageredMilli = 0
+    this.profitMilli = 0
     this.drops = 0
     this.best = null
     /** @type {number[]} profit after each drop, the first point 0 */
@@ -28,13 +30,23 @@ export class SessionStats {
 
   /** @param {{ bet: number, payout: number, multiplier: number }} result */
   add ({ bet, payout, multiplier }) {
-    this.wagered += bet
-    this.profit += payout - bet
+    this.wageredMilli += toMilli(bet)
+    this.profitMilli += toMilli(payout) - toMilli(bet)
     this.drops++
     this.best = this.best === null ? multiplier : Math.max(this.best, multiplier)
     this.curve.push(this.profit)
     if (this.curve.length > MAX_POINTS) this.curve = this.curve.filter((_, i) => i % 2 === 0 || i === this.curve.length - 1)
     this.render()
+  }
+
+  /** Credits wagered since the page opened (or the last reset). */
+  get wagered () {
+    return toCredits(this.wageredMilli)
+  }
+
+  /** Credits won minus credits wagered. */
+  get profit () {
+    return toCredits(this.profitMilli)
   }
 
   get summary () {

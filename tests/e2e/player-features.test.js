@@ -9,6 +9,7 @@
  */
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createBoard } from '../../engine/index.js'
+import { toCredits, toMilli } from '../../protocol/payout.js'
 import { bucketColors } from '../../client/board-renderer.js'
 import { startArenaServer } from './helpers/arena-server.js'
 import { launchChromium, waitInPage } from './helpers/browser.js'
@@ -73,7 +74,7 @@ describe('player page features', () => {
     expect(await page.locator('#feed tr.big').count()).toBe(1)
 
     // The session: wagered, profit, drops and the chart's points.
-    const profit = seen.history.reduce((sum, h) => sum + h.payout - h.bet, 0)
+    const profit = toCredits(seen.history.reduce((sum, h) => sum + toMilli(h.payout) - toMilli(h.bet), 0))
     expect(seen.session).toMatchObject({ wagered: 60, profit, drops: 3, points: 4 })
     expect(await page.textContent('#stat-wagered')).toBe('60')
     expect(await page.textContent('#stat-drops')).toBe('3')
