@@ -113,7 +113,7 @@ function runWorker (plan, timeoutMs) {
 
 function failedWorker (plan, code, detail) {
   return {
-    players: plan.players.length, joined: 0, dropsSent: 0, dropsAcked: 0, dropsRefused: 0, dropsSettled: 0, unsettled: 0, balanceMismatches: 0,
+    players: plan.players.length, joined: 0, redirects: 0, dropsSent: 0, dropsAcked: 0, dropsRefused: 0, dropsSettled: 0, unsettled: 0, balanceMismatches: 0,
     frames: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [] }
   }
 }
@@ -175,6 +175,8 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
     baseUrl,
     players,
     joined,
+    /** Joins answered E_WRONG_NODE (clustered) and followed to the room's process. */
+    redirects: sum('redirects'),
     rooms: rooms.length,
     roomsOffered: offered,
     workers: workerCount,
@@ -228,7 +230,7 @@ export function formatLeanSummary (summary) {
   const s = summary
   const errors = Object.entries(s.errors).map(([code, count]) => `${code} ${count}`).join(', ') || 'none'
   const lines = [
-    `lean generator: ${s.players} players (${s.joined} joined) in ${s.rooms} rooms${s.roomsOffered < s.rooms ? ` (server offers ${s.roomsOffered})` : ''}, ${s.workers} worker thread${s.workers === 1 ? '' : 's'}, one drop per ${s.dropIntervalMs} ms: ${s.passed ? 'PASS' : `FAIL (${s.failures.join('; ')})`}`,
+    `lean generator: ${s.players} players (${s.joined} joined${s.redirects ? `, ${s.redirects} after E_WRONG_NODE to the room's process` : ''}) in ${s.rooms} rooms${s.roomsOffered < s.rooms ? ` (server offers ${s.roomsOffered})` : ''}, ${s.workers} worker thread${s.workers === 1 ? '' : 's'}, one drop per ${s.dropIntervalMs} ms: ${s.passed ? 'PASS' : `FAIL (${s.failures.join('; ')})`}`,
     `  drops: ${s.dropsSent} sent, ${s.dropsAcked} acknowledged, ${s.dropsSettled} settled, ${s.dropsRefused} refused, ${s.unsettled} unsettled; balance mismatches ${s.balanceMismatches}; errors: ${errors}`,
     `  drop → dropped p50 / p99: ${round(s.ackMs.p50)} / ${round(s.ackMs.p99)} ms`,
     `  drop → settled p50 / p99: ${round(s.settledMs.p50, 0)} / ${round(s.settledMs.p99, 0)} ms (minus the fall: ${round(s.settleOverheadMs.p50)} / ${round(s.settleOverheadMs.p99)} ms)`,

@@ -14,6 +14,12 @@
  *   `joined` came (X_NOT_JOINED); the room's snapshot ticks must increase frame by
  *   frame (X_TICK_ORDER).
  *
+ * - clustered, a join answered E_WRONG_NODE (before any `joined`) is
+ *   followed, as the k6 player does: `redirect(socketUrl)` asks the owner
+ *   to reconnect to the room's process (loopback only) with the same
+ *   session, at most MAX_REDIRECTS times; a redirect is counted, not an
+ *   error.
+ *
  * It decodes only what it checks: text frames (the player's own events,
  * `welcome`, `joined`, errors) are parsed as JSON; a binary room frame is
  * counted, and its snapshot tick read from the header (kind 2: uint32 LE
@@ -25,7 +31,11 @@
  * (lean-worker.js) feeds it what arrives, so the checks are tested alone.
  */
 
+import { ownerSocketUrl } from '../k6-lib/scenario-config.js'
+
 const TICK_MS = 1000 / 60
+/** E_WRONG_NODE answers followed before joining; one more is an error (two processes disagreeing). */
+export const MAX_REDIRECTS = 3
 const SNAPSHOT_KIND = 1
 const ROOM_FRAME_KIND = 2
 
@@ -57,6 +67,8 @@ export class PlayerStats {
   constructor () {
     this.players = 0
     this.joined = 0
+    /** Joins answered E_WRONG_NODE and followed to the room's process. */
+    this.redirects = 0
     this.finished = 0
     this.dropsSent = 0
     this.dropsAcked = 0
@@ -133,13 +145,16 @@ export class LeanPlayer {
    * @param {number} options.bet credits per drop
    * @param {PlayerStats} options.stats where the player's counts go
    * @param {(text: string) => void} options.send writes one text message to the server
+   * @param {(socketUrl: string) => void} [options.redirect] reconnect to this ws:// URL (the room's process) and play on there
    * @param {() => number} [options.now] ms, the same clock as the arrival times given to receive*()
    */
-  constructor ({ room, bet, stats, send, now = () => performance.now() }) {
+  constructor ({ room, bet, stats, send, redirect, now = () => performance.now() }) {
     this.room = room
     this.bet = bet
     this.stats = stats
     this.send = send
+    this.redirect = redirect
+    this.redirects = 0
     this.now = now
     this.playerId = null
     /** Running balance, milli-credits. */
@@ -176,6 +191,8 @@ export class LeanPlayer {
       case 'welcome':
         this.playerId = message.playerId
         this.balance = milli(message.balance)
+        // A new connection (after a redirect: another process, its own ticks).
+        this.lastTick = -1
         this.send(JSON.stringify({ type: 'join', room: this.room }))
         return
       case 'joined':
@@ -191,9 +208,24 @@ export class LeanPlayer {
         if (message.player === this.playerId) this._settled(message, at)
         return
       case 'error':
+        if (message.code === 'E_WRONG_NODE' && this._follow(message.owner)) return
         stats.error(message.code, message.message)
         if (message.ref !== undefined && this.pending.delete(message.ref)) stats.dropsRefused++
     }
+  }
+
+  /**
+   * Follows an E_WRONG_NODE to the room's owner, when the player can:
+   * before its `joined`, with nothing sent but the join, the owner on
+   * loopback, and redirects left. @param {unknown} owner @returns {boolean} followed
+   */
+  _follow (owner) {
+    const url = ownerSocketUrl(owner)
+    if (!this.redirect || this.joined || url === null || this.redirects >= MAX_REDIRECTS || this.pending.size > 0) return false
+    this.redirects++
+    this.stats.redirects++
+    this.redirect(url)
+    return true
   }
 
   /** A binary frame: counted, and its snapshot tick checked. @param {Uint8Array} buffer @param {number} start @param {number} end */

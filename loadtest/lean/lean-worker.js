@@ -45,6 +45,8 @@ export function playWorkerPlan (plan, done) {
   const url = new URL(plan.baseUrl)
   const host = url.hostname.replace(/^\[|\]$/g, '')
   const port = Number(url.port || 80)
+  // A base URL with a path (a process behind the cluster's proxy, /n/1) keeps it.
+  const basePrefix = url.pathname.replace(/\/+$/, '')
   const stats = new PlayerStats()
   const window = {}
   let remaining = plan.players.length
@@ -73,6 +75,7 @@ export function playWorkerPlan (plan, done) {
     done({
       players: stats.players,
       joined: stats.joined,
+      redirects: stats.redirects,
       dropsSent: stats.dropsSent,
       dropsAcked: stats.dropsAcked,
       dropsRefused: stats.dropsRefused,
@@ -118,29 +121,48 @@ export function playWorkerPlan (plan, done) {
     let dropTimer = null
     let phaseTimer = null
     let pollTimer = null
-    const socket = new LeanSocket({ host, port, path: `/ws?token=${encodeURIComponent(token)}` }, {
-      onText (text, at) {
-        player.receiveText(text, at)
-        if (player.joined && dropTimer === null && phaseTimer === null && !player.leaving) startDropping()
-      },
-      onBinary (buffer, start, end) {
-        player.receiveBinary(buffer, start, end)
-      },
-      onError (error) {
-        if (closedByUs) return
-        stats.error(error.status ? `HTTP_${error.status}` : 'WS_ERROR', error.message)
-      },
-      onClose (code) {
-        clearTimeout(joinTimer)
-        clearTimeout(leaveTimer)
-        clearTimeout(phaseTimer)
-        clearInterval(dropTimer)
-        clearInterval(pollTimer)
-        player.closed(code, closedByUs)
-        finishOne()
-      }
-    })
-    const player = new LeanPlayer({ room, bet: plan.bet, stats, send: (text) => socket.sendText(text) })
+    /** @type {LeanSocket} */
+    let socket
+    const player = new LeanPlayer({ room, bet: plan.bet, stats, send: (text) => socket.sendText(text), redirect: (socketUrl) => moveTo(socketUrl) })
+
+    /** Opens the player's socket to the process at `target` (the entry URL, or the room's owner after E_WRONG_NODE). */
+    function open (target) {
+      const current = new LeanSocket({ host: target.host, port: target.port, path: `${target.prefix}/ws?token=${encodeURIComponent(token)}` }, {
+        onText (text, at) {
+          player.receiveText(text, at)
+          if (player.joined && dropTimer === null && phaseTimer === null && !player.leaving) startDropping()
+        },
+        onBinary (buffer, start, end) {
+          player.receiveBinary(buffer, start, end)
+        },
+        onError (error) {
+          if (closedByUs || current !== socket) return
+          stats.error(error.status ? `HTTP_${error.status}` : 'WS_ERROR', error.message)
+        },
+        onClose (code) {
+          // The socket left behind by a redirect closes quietly.
+          if (current !== socket) return
+          clearTimeout(joinTimer)
+          clearTimeout(leaveTimer)
+          clearTimeout(phaseTimer)
+          clearInterval(dropTimer)
+          clearInterval(pollTimer)
+          player.closed(code, closedByUs)
+          finishOne()
+        }
+      })
+      socket = current
+    }
+
+    /** Leaves this socket (nothing was dropped on it) and joins again at the room's process. @param {string} socketUrl */
+    function moveTo (socketUrl) {
+      const previous = socket
+      const owner = new URL(socketUrl)
+      open({ host: owner.hostname.replace(/^\[|\]$/g, ''), port: Number(owner.port || 80), prefix: owner.pathname.replace(/\/ws$/, '') })
+      previous.close(1000)
+    }
+
+    open({ host, port, prefix: basePrefix })
 
     const close = () => {
       closedByUs = true

@@ -1,5 +1,5 @@
 import { describe, it, expect } from 'vitest'
-import { LeanPlayer, PlayerStats, frameTick, milli } from '../../loadtest/lean/lean-player.js'
+import { LeanPlayer, PlayerStats, MAX_REDIRECTS, frameTick, milli } from '../../loadtest/lean/lean-player.js'
 import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
 
 function player ({ balance = 100 } = {}) {
@@ -105,5 +105,36 @@ describe('LeanPlayer', () => {
     expect(stats.frames).toBe(4)
     expect(stats.bytes - textBytes).toBe(room.length * 2 + next.length + 1)
     expect(Object.fromEntries(stats.errors)).toEqual({ X_TICK_ORDER: 1, X_BAD_FRAME: 1 })
+  })
+
+  it('follows E_WRONG_NODE to a loopback owner before joining, at most MAX_REDIRECTS times, and counts anything else as an error', () => {
+    const stats = new PlayerStats()
+    const sent = []
+    const moves = []
+    const p = new LeanPlayer({ room: '16-low', bet: 10, stats, send: (text) => sent.push(JSON.parse(text)), redirect: (url) => moves.push(url) })
+    const wrongNode = (owner) => JSON.stringify({ type: 'error', code: 'E_WRONG_NODE', message: 'elsewhere', room: '16-low', owner })
+    p.receiveText(JSON.stringify({ type: 'welcome', playerId: 'p1', balance: 100 }), 0)
+    p.receiveText(wrongNode('http://127.0.0.1:8080/n/1'), 1)
+    expect(moves).toEqual(['ws://127.0.0.1:8080/n/1/ws'])
+    expect(stats.errorCount).toBe(0)
+    // The new connection's welcome joins again; a second and third redirect are followed, a fourth is an error.
+    for (let i = 0; i < MAX_REDIRECTS; i++) {
+      p.receiveText(JSON.stringify({ type: 'welcome', playerId: 'p1', balance: 100 }), 2)
+      p.receiveText(wrongNode(`http://localhost:${9000 + i}`), 3)
+    }
+    expect(moves).toHaveLength(MAX_REDIRECTS)
+    expect(stats.redirects).toBe(MAX_REDIRECTS)
+    expect(Object.fromEntries(stats.errors)).toEqual({ E_WRONG_NODE: 1 })
+    expect(sent.filter((m) => m.type === 'join')).toHaveLength(MAX_REDIRECTS + 1)
+
+    // Never off this machine, and never once joined.
+    const far = new LeanPlayer({ room: 'r', bet: 10, stats: new PlayerStats(), send: () => {}, redirect: (url) => moves.push(url) })
+    far.receiveText(wrongNode('http://203.0.113.9:8080'), 0)
+    expect(Object.fromEntries(far.stats.errors)).toEqual({ E_WRONG_NODE: 1 })
+    const { p: joined, stats: joinedStats } = player()
+    joined.redirect = (url) => moves.push(url)
+    joined.receiveText(wrongNode('http://127.0.0.1:8080'), 0)
+    expect(Object.fromEntries(joinedStats.errors)).toEqual({ E_WRONG_NODE: 1 })
+    expect(moves).toHaveLength(MAX_REDIRECTS)
   })
 })
