@@ -39,14 +39,14 @@ const KEEP_ALIVE_MS = 5000
  * @param {number} [options.tickRate] wall-clock ticks per second (default 60; tests may run faster —
  *   the simulation still advances 1/60 s per tick, so outcomes are unchanged)
  * @param {object} [options.logger] fastify logger options, or false
- * @param {object} [options.logTransport] a pino transport for the default logger (server/log-format.js: pino-pretty on a terminal)
+ * @param {object} [options.logOutput] where the default logger writes: `{ transport }` or `{ stream }` (server/log-format.js: pino-pretty on a terminal, synchronous JSON lines otherwise)
  * @param {boolean} [options.announceToken] log a generated operator token (default true; false when the start-up banner shows it)
  */
 export async function buildApp (config, options = {}) {
   const app = Fastify({
     logger: options.logger ?? {
       level: config.logLevel,
-      ...(options.logTransport && { transport: options.logTransport }),
+      ...options.logOutput,
       redact: ['req.headers.authorization'],
       serializers: { req: (request) => ({ method: request.method, url: redactToken(request.url), remoteAddress: request.ip }) }
     },

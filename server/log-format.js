@@ -1,4 +1,5 @@
 import { createRequire } from 'node:module'
+import pino from 'pino'
 
 /** LOG_FORMAT: `auto` (pretty on a terminal, JSON otherwise), `json`, `pretty`. */
 export const LOG_FORMATS = Object.freeze(['auto', 'json', 'pretty'])
@@ -32,12 +33,16 @@ export function prettyTarget () {
 }
 
 /**
- * The pino transport for `logs: 'pretty'` (pino-pretty on a worker thread,
- * writing to stdout; flushed when the process exits), or undefined for JSON
- * lines on stdout, pino's default.
+ * Where the logs go, as fastify logger options: for `logs: 'pretty'`,
+ * pino-pretty on a worker thread (a pino transport, flushed when the
+ * process exits); for JSON lines, stdout written synchronously. pino's
+ * default stdout stream writes asynchronously and its exit hook skips a
+ * write still in progress, so a line logged just before process.exit (the
+ * shut-down report) could be lost.
  * @param {'pretty' | 'json'} logs @param {{ target?: string | null, colorize?: boolean }} [options]
+ * @returns {{ transport: object } | { stream: import('pino').DestinationStream }}
  */
-export function logTransport (logs, { target = prettyTarget(), colorize = false } = {}) {
-  if (logs !== 'pretty' || !target) return undefined
-  return { target, options: { colorize, translateTime: 'SYS:HH:MM:ss.l', ignore: 'pid,hostname', singleLine: true } }
+export function logOutput (logs, { target = prettyTarget(), colorize = false } = {}) {
+  if (logs === 'pretty' && target) return { transport: { target, options: { colorize, translateTime: 'SYS:HH:MM:ss.l', ignore: 'pid,hostname', singleLine: true } } }
+  return { stream: pino.destination({ dest: 1, sync: true }) }
 }

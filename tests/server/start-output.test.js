@@ -10,7 +10,7 @@ import { describe, it, expect } from 'vitest'
 import { existsSync } from 'node:fs'
 import { startServerProcess } from '../../tools/server-process.js'
 import { loadConfig } from '../../server/config.js'
-import { LOG_FORMATS, logTransport, outputMode, prettyTarget } from '../../server/log-format.js'
+import { LOG_FORMATS, logOutput, outputMode, prettyTarget } from '../../server/log-format.js'
 import { hidePassword, listenUrls, startBanner } from '../../server/start-banner.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
 
@@ -43,13 +43,16 @@ describe('output mode', () => {
     expect(outputMode({ isTTY: undefined, logFormat: 'auto', prettyAvailable: true })).toEqual({ logs: 'json', banner: false })
   })
 
-  it('uses pino-pretty (installed here as a development dependency) only for pretty logs', () => {
+  it('uses pino-pretty (installed here as a development dependency) only for pretty logs, and writes JSON lines synchronously', () => {
     const target = prettyTarget()
     expect(target).toMatch(/node_modules[/\\]pino-pretty[/\\]/)
     expect(existsSync(target)).toBe(true)
-    expect(logTransport('pretty', { target, colorize: true })).toMatchObject({ target, options: { colorize: true } })
-    expect(logTransport('json', { target })).toBeUndefined()
-    expect(logTransport('pretty', { target: null })).toBeUndefined()
+    expect(logOutput('pretty', { target, colorize: true })).toMatchObject({ transport: { target, options: { colorize: true } } })
+    // JSON lines go to stdout synchronously: nothing is left in a buffer when the process exits.
+    for (const output of [logOutput('json', { target }), logOutput('pretty', { target: null })]) {
+      expect(Object.keys(output)).toEqual(['stream'])
+      expect(output.stream).toMatchObject({ fd: 1, sync: true })
+    }
   })
 
   it('reads LOG_FORMAT from the environment: auto by default, one of auto, json, pretty', () => {
@@ -157,5 +160,21 @@ describe('a server process, piped', () => {
     // No colours when piped; the transport's worker is flushed before the process exits.
     expect(output).not.toContain('\u001b[')
     expect(logLines.at(-1)).toMatch(/^\[[\d:.]+\] INFO: shut down: 0 drops in flight settled, 0 sockets closed; exit code 0 \{.*"exitCode":0/)
+  })
+
+  it('stops gracefully, last line and all, on a SIGTERM that comes while it is still starting', async () => {
+    // The first line it prints (the generated token, before it listens) is the moment to send it.
+    for (let run = 0; run < 3; run++) {
+      const proc = startServerProcess('sqlite::memory:', { OPERATOR_TOKEN: '', CLIENT_DIR: '/nonexistent/plinko-client', LOG_FORMAT: 'json' })
+      const pipesClosed = new Promise((resolve) => proc.child.once('close', resolve))
+      proc.port.catch(() => {})
+      await new Promise((resolve) => proc.child.stdout.once('data', resolve))
+      proc.child.kill('SIGTERM')
+      const exit = await proc.exited
+      await pipesClosed
+      const records = proc.output().trimEnd().split('\n').map((line) => JSON.parse(line))
+      expect(exit, proc.output()).toEqual({ code: 0, signal: null })
+      expect(records.at(-1)).toMatchObject({ msg: 'shut down: 0 drops in flight settled, 0 sockets closed; exit code 0', signal: 'SIGTERM', exitCode: 0 })
+    }
   })
 })
