@@ -1,144 +1,249 @@
 #!/usr/bin/env node
 /**
- * node bench/cluster-capacity.js [--step 250] [--max 3000] [--hold 10] [--interval 2000]
+ * `npm run loadtest:cluster-capacity -- [--steps 1000,1500,…] [--rooms 100] [--duration 20s] [--ramp 15s]`
  *
- * Players held by 1 server process vs 2 clustered ones on this machine.
- * Starts a throwaway PostgreSQL and Redis (the test helpers), then for each
- * mode adds players in steps (each: session, WebSocket, join one of the 27
- * rooms round robin — following E_WRONG_NODE — and a drop of 1 credit
- * every --interval ms at a random phase), holds each step --hold seconds and
- * measures, client side, drop → own `dropped` latency. A step is held when
- * its p99 stays under 300 ms with no error and no drop left unanswered.
- * The load generator runs in this process, on the same CPUs as the servers.
+ * Players held by one server process and by `npm run cluster -- --workers 2`
+ * (two processes behind the cluster's proxy, rooms leased through Redis),
+ * in one run, with the same lean load generator (loadtest/lean/) and the
+ * same criteria as `npm run loadtest:capacity` (tick p99 < 8 ms and tick
+ * lag p99 < 16.7 ms on every process, 0 errors, every drop settled,
+ * drop → dropped p99 < 250 ms). Both share a throwaway PostgreSQL ledger
+ * (the cluster needs one; the single process uses it too, so only the
+ * process count differs), a fresh database per step. The generator enters
+ * through one URL; a player whose room runs on the other process follows
+ * E_WRONG_NODE there. Nothing is pinned: the processes, the proxy, Redis,
+ * PostgreSQL and the generator share this machine's CPUs, and the table
+ * says how much of them each used.
+ *
+ * Steps per mode go up until the first that fails. Prints the table and
+ * the ratio of players held; exit code 0 whatever the figures.
  */
-import { spawn } from 'node:child_process'
+import fs from 'node:fs'
+import os from 'node:os'
+import net from 'node:net'
 import path from 'node:path'
-import { parseArgs } from 'node:util'
+import { spawn } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
-import WebSocket from 'ws'
+import { parseCommandLine } from '../cli/command-line.js'
+import { optionsOrExit } from '../cli/usage-error.js'
+import { parseDuration, positiveInteger } from '../loadtest/driver/cli-args.js'
+import { startServer } from '../loadtest/driver/server-process.js'
+import { MetricsSampler, readProcStat } from '../loadtest/driver/metrics-sampler.js'
+import { analyzeServerSamples } from '../loadtest/driver/run-analysis.js'
+import { runLeanLoad, formatLeanSummary } from '../loadtest/lean/lean-generator.js'
+import { CRITERIA } from '../loadtest/lean/capacity.js'
 import { startPostgres } from '../tools/postgres-process.js'
-import { freePort } from '../tools/free-port.js'
 import { startRedis } from '../tools/redis-process.js'
-import { ROOM_IDS } from '../protocol/room-id.js'
 import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
-const { values } = parseArgs({ options: { step: { type: 'string', default: '250' }, max: { type: 'string', default: '3000' }, hold: { type: 'string', default: '10' }, interval: { type: 'string', default: '2000' } } })
-const STEP = Number(values.step); const MAX = Number(values.max); const HOLD_S = Number(values.hold); const INTERVAL = Number(values.interval)
-const P99_LIMIT_MS = 300
-/** One room per board, as when the README's figures were measured. */
-const ROOMS = ROOM_IDS.slice(0, 27)
+const CLUSTER_SCRIPT = path.join(ROOT, 'scripts/cluster.js')
+const OPERATOR_TOKEN = 'operator-token-for-cluster-capacity-0123'
 
-async function startServer (env) {
-  const port = await freePort()
-  const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
-    cwd: ROOT,
-    env: { ...process.env, PORT: String(port), HOST: '127.0.0.1', LOG_LEVEL: 'warn', OPERATOR_TOKEN: 'operator-token-for-bench-0123456789', CLIENT_DIR: '/nonexistent', ...LIFTED_LIMITS, ...env, PUBLIC_URL: env.REDIS_URL ? `http://127.0.0.1:${port}` : '' },
-    stdio: ['ignore', 'inherit', 'inherit']
-  })
-  const url = `http://127.0.0.1:${port}`
-  for (let i = 0; i < 300; i++) {
-    try { if ((await fetch(url + '/api/health')).ok) break } catch {}
-    await new Promise((resolve) => setTimeout(resolve, 50))
-  }
-  return { url, stop: () => new Promise((resolve) => { child.once('exit', resolve); child.kill('SIGTERM') }) }
+export const USAGE = `usage: npm run loadtest:cluster-capacity -- [options]
+
+  --steps N,N,…    player counts to try per mode, in order (default 500,1000,1500,2000,2500,3000)
+  --rooms N        rooms (default 100)
+  --duration TIME  steady phase per step (default 20s)
+  --ramp TIME      players connect spread over this (default 15s)
+  -h, --help`
+
+const OPTIONS = {
+  help: { type: 'boolean', short: 'h' },
+  steps: { type: 'string' },
+  rooms: { type: 'string' },
+  duration: { type: 'string' },
+  ramp: { type: 'string' }
 }
 
-function player (entry, room, stats) {
-  return new Promise((resolve, reject) => {
-    fetch(entry + '/api/session', { method: 'POST' }).then((r) => r.json()).then(({ token }) => {
-      let timer = null
-      let seq = 0
-      let joinedOnce = false
-      let redirecting = false
-      const pending = new Map()
-      const open = (base) => {
-        const socket = new WebSocket(`${base.replace(/^http/, 'ws')}/ws?token=${token}`)
-        socket.on('message', (data, isBinary) => {
-          if (isBinary) return
-          const m = JSON.parse(data)
-          if (m.type === 'welcome') socket.send(JSON.stringify({ type: 'join', room, ref: 'j' }))
-          else if (m.type === 'joined' && m.ref === 'j') {
-            joinedOnce = true
-            resolve({ close: () => { clearInterval(timer); socket.close() }, pending })
-            setTimeout(() => {
-              timer = setInterval(() => {
-                const ref = ++seq
-                pending.set(ref, performance.now())
-                socket.send(JSON.stringify({ type: 'drop', bet: 1, ref }))
-              }, INTERVAL)
-            }, Math.random() * INTERVAL)
-          } else if (m.type === 'error' && m.ref === 'j' && m.code === 'E_WRONG_NODE') {
-            redirecting = true; socket.close(); open(m.owner)
-          } else if (m.type === 'error' && m.ref === 'j') {
-            setTimeout(() => socket.send(JSON.stringify({ type: 'join', room, ref: 'j' })), m.retryAfterMs ?? 200)
-          } else if (m.type === 'dropped' && m.ref !== undefined && pending.has(m.ref)) {
-            stats.latencies.push(performance.now() - pending.get(m.ref)); pending.delete(m.ref)
-          } else if (m.type === 'error') {
-            stats.errors++; if (m.ref !== undefined) pending.delete(m.ref)
-          }
-        })
-        socket.on('error', (error) => { stats.errors++; reject(error) })
-        socket.on('close', (code, reason) => {
-          clearInterval(timer)
-          if (!joinedOnce && !redirecting) reject(new Error(`closed before joining: ${code} ${reason}`))
-          redirecting = false
-        })
+/** @param {string[]} argv */
+export function parseClusterCapacityArgs (argv) {
+  const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
+  if (values.help) return { help: true }
+  return {
+    help: false,
+    steps: (values.steps ?? '500,1000,1500,2000,2500,3000').split(',').map((raw) => positiveInteger(raw.trim(), 'steps')),
+    rooms: values.rooms === undefined ? 100 : positiveInteger(values.rooms, 'rooms'),
+    durationS: parseDuration(values.duration ?? '20s', 'duration'),
+    rampS: parseDuration(values.ramp ?? '15s', 'ramp')
+  }
+}
+
+/** `count` consecutive free loopback ports (the cluster's proxy on the first, worker i on first + 1 + i). */
+async function freePortRun (count) {
+  for (let attempt = 0; attempt < 50; attempt++) {
+    const base = 20000 + Math.floor(Math.random() * 40000)
+    const free = await Promise.all(Array.from({ length: count }, (_, i) => new Promise((resolve) => {
+      const server = net.createServer().once('error', () => resolve(false)).listen(base + i, '127.0.0.1', () => server.close(() => resolve(true)))
+    })))
+    if (free.every(Boolean)) return base
+  }
+  throw new Error('no run of free ports')
+}
+
+/** The pids of a process and its children (the cluster's workers), from /proc. @param {number} pid */
+function processTree (pid) {
+  const pids = [pid]
+  for (let i = 0; i < pids.length; i++) {
+    try {
+      for (const task of fs.readdirSync(`/proc/${pids[i]}/task`)) {
+        const children = fs.readFileSync(`/proc/${pids[i]}/task/${task}/children`, 'utf8').trim()
+        if (children) pids.push(...children.split(' ').map(Number))
       }
-      open(entry)
-    }, reject)
-  })
-}
-
-async function measure (label, entries) {
-  const players = []
-  let held = 0
-  const rows = []
-  // One stats object for every player of the run; each step measures a fresh window.
-  const stats = { latencies: [], errors: 0 }
-  for (let target = STEP; target <= MAX; target += STEP) {
-    const adding = []
-    for (let i = players.length; i < target; i++) adding.push(player(entries[i % entries.length], ROOMS[i % ROOMS.length], stats))
-    players.push(...await Promise.all(adding))
-    // Settle in, then measure.
-    await new Promise((resolve) => setTimeout(resolve, INTERVAL + 1000))
-    const window = { latencies: [] }
-    stats.latencies = window.latencies
-    for (const p of players) p.pending.clear()
-    const before = stats.errors
-    await new Promise((resolve) => setTimeout(resolve, HOLD_S * 1000))
-    const now = performance.now()
-    const stuck = players.reduce((n, p) => n + [...p.pending.values()].filter((t) => now - t > 2000).length, 0)
-    const sorted = window.latencies.sort((a, b) => a - b)
-    const p99 = sorted[Math.floor(sorted.length * 0.99)] ?? Infinity
-    const p50 = sorted[Math.floor(sorted.length * 0.5)] ?? Infinity
-    const errors = stats.errors - before
-    const ok = p99 < P99_LIMIT_MS && errors === 0 && stuck === 0
-    rows.push({ label, players: target, drops: sorted.length, p50: p50.toFixed(1), p99: p99.toFixed(1), errors, stuck, ok })
-    console.log(JSON.stringify(rows.at(-1)))
-    if (!ok) break
-    held = target
+    } catch {}
   }
-  for (const p of players) p.close()
-  return { held, rows }
+  return pids
 }
 
-const postgres = await startPostgres()
-const redis = await startRedis()
-const results = {}
-try {
-  const db1 = await postgres.createDatabase()
-  const one = await startServer({ DATABASE_URL: db1 })
-  results.one = await measure('1 process', [one.url])
-  await one.stop()
-  const db2 = await postgres.createDatabase()
-  const a = await startServer({ DATABASE_URL: db2, REDIS_URL: redis.url })
-  const b = await startServer({ DATABASE_URL: db2, REDIS_URL: redis.url })
-  results.two = await measure('2 processes', [a.url, b.url])
-  await a.stop(); await b.stop()
-} finally {
-  await redis.stop()
-  await postgres.stop()
+/** One server process on PostgreSQL. */
+async function startOne (databaseUrl, dir) {
+  const server = await startServer({ dataDir: dir, logFile: path.join(dir, 'server.log'), env: { DATABASE_URL: databaseUrl } })
+  return { url: server.url, processes: [server.url], pids: () => [server.pid], stop: () => server.stop() }
 }
-console.log(`players held: 1 process ${results.one.held}, 2 processes ${results.two.held}, ratio ${(results.two.held / Math.max(1, results.one.held)).toFixed(2)}`)
-process.exit(0)
+
+/** `npm run cluster -- --workers 2` (scripts/cluster.js) on PostgreSQL and Redis. */
+async function startTwo (databaseUrl, redisUrl, dir) {
+  const port = await freePortRun(3)
+  const log = fs.openSync(path.join(dir, 'cluster.log'), 'a')
+  const child = spawn(process.execPath, [CLUSTER_SCRIPT, '--workers', '2', '--port', String(port)], {
+    cwd: ROOT,
+    env: { ...process.env, DATABASE_URL: databaseUrl, REDIS_URL: redisUrl, LOG_LEVEL: 'warn', OPERATOR_TOKEN, CLIENT_DIR: '/nonexistent/plinko-client', ...LIFTED_LIMITS },
+    stdio: ['ignore', log, log]
+  })
+  fs.closeSync(log)
+  const exited = new Promise((resolve) => child.once('exit', resolve))
+  const url = `http://127.0.0.1:${port}`
+  const processes = [0, 1].map((i) => `${url}/n/${i}`)
+  const deadline = Date.now() + 60_000
+  for (const process of processes) {
+    for (;;) {
+      if (child.exitCode !== null) throw new Error(`npm run cluster exited during start-up; see ${path.join(dir, 'cluster.log')}`)
+      if ((await fetch(`${process}/api/health`).catch(() => null))?.ok) break
+      if (Date.now() > deadline) throw new Error('npm run cluster did not start within 60 s')
+      await new Promise((resolve) => setTimeout(resolve, 100))
+    }
+  }
+  return {
+    url,
+    processes,
+    pids: () => processTree(child.pid),
+    async stop () {
+      child.kill('SIGTERM')
+      const timer = setTimeout(() => child.kill('SIGKILL'), 60_000)
+      await exited
+      clearTimeout(timer)
+    }
+  }
+}
+
+/**
+ * One step: `players` under the reference load on a fresh target; the
+ * criteria over the generator's steady window, tick figures the worst of
+ * the processes'.
+ */
+async function measureStep (start, { players, rooms, durationS, rampS }) {
+  const target = await start()
+  const samplers = target.processes.map((url) => new MetricsSampler({ url, intervalMs: 1000 }))
+  let from = null
+  let to = null
+  const read = () => {
+    const pids = target.pids()
+    return { at: performance.now(), pids, cpuS: new Map(pids.map((pid) => [pid, readProcStat(pid)?.cpuS ?? null])), generator: process.cpuUsage() }
+  }
+  try {
+    for (const sampler of samplers) sampler.start()
+    await new Promise((resolve) => setTimeout(resolve, 1500))
+    const summary = await runLeanLoad({
+      baseUrl: target.url, players, rooms, durationS, rampS, dropIntervalMs: 2000, drainS: 15,
+      window: { start: () => { from = read() }, end: () => { to = read() } }
+    })
+    for (const sampler of samplers) await sampler.stop()
+    // expectedClients 0: each process's own plateau (the players split between them by room).
+    const analyses = samplers.map((sampler) => analyzeServerSamples(sampler.samples, { expectedClients: 0 }))
+    const worst = (read) => {
+      const values = analyses.map(read)
+      return values.some((value) => value === null || value === undefined) ? null : Math.max(...values) * 1000
+    }
+    const seconds = (to.at - from.at) / 1000
+    // CPU of the processes there over the whole window (the proxy and the workers; a restarted worker would not be).
+    const serverCpuS = from.pids.reduce((total, pid) => {
+      const [a, b] = [from.cpuS.get(pid), to.cpuS.get(pid)]
+      return a === null || b === null || b === undefined ? total : total + b - a
+    }, 0)
+    const generatorCpuS = (to.generator.user - from.generator.user + to.generator.system - from.generator.system) / 1e6
+    const step = {
+      players,
+      processes: target.processes.length,
+      serverShare: serverCpuS / seconds,
+      generatorShare: generatorCpuS / seconds,
+      tickP99Ms: worst((a) => a.tick?.p99),
+      lagP99Ms: worst((a) => a.tickLag?.p99),
+      ackP50Ms: summary.steady.ackMs.p50,
+      ackP99Ms: summary.steady.ackMs.p99,
+      settledP99Ms: summary.steady.settledMs.p99,
+      dropsSent: summary.dropsSent,
+      dropsSettled: summary.dropsSettled,
+      unsettled: summary.unsettled,
+      redirects: summary.redirects,
+      errors: summary.errorCount,
+      // A join answered E_WRONG_NODE is a redirect the generator followed (and counted), not an error.
+      serverErrors: analyses.reduce((total, a) => total + Object.entries(a.serverErrors ?? {}).reduce((sum, [code, count]) => code === 'E_WRONG_NODE' ? sum : sum + count, 0), 0),
+      summary
+    }
+    step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
+    step.holds = step.failed.length === 0
+    return step
+  } finally {
+    for (const sampler of samplers) if (sampler.running) await sampler.stop()
+    await target.stop()
+  }
+}
+
+const f = (value, digits = 0) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
+const pct = (share) => share === null || share === undefined ? '–' : `${f(share * 100)}%`
+
+/** The table of both modes' steps and the verdict. */
+export function clusterCapacityMarkdown (modes, { rooms, durationS, cpus, date = new Date() }) {
+  const held = (steps) => Math.max(0, ...steps.filter((step) => step.holds).map((step) => step.players))
+  const [one, two] = modes.map((mode) => held(mode.steps))
+  const header = '| processes | players | server CPU (all processes) | generator CPU | tick p99 (worst) | lag p99 (worst) | drop → dropped p50 / p99 | drop → settled p99 | redirects | errors, unsettled | verdict |'
+  const rows = modes.flatMap((mode) => mode.steps.map((step) => `| ${mode.label} | ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${pct(step.generatorShare)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms)} / ${f(step.ackP99Ms)} ms | ${f(step.settledP99Ms)} ms | ${step.redirects} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`))
+  return [
+    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${cpus} CPUs shared by everything (not pinned), PostgreSQL ledger, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step.`,
+    '',
+    `**Players held: one process ${one.toLocaleString('en-US')}, two processes (npm run cluster -- --workers 2) ${two.toLocaleString('en-US')}: ${one > 0 ? `${(two / one).toFixed(2)}×` : '–'}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).`,
+    '',
+    header,
+    `|${header.split('|').slice(1, -1).map(() => ' ---').join(' |')} |`,
+    ...rows
+  ].join('\n')
+}
+
+async function main () {
+  const options = optionsOrExit(parseClusterCapacityArgs, process.argv.slice(2), USAGE)
+  const postgres = await startPostgres()
+  const redis = await startRedis()
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-cluster-capacity-'))
+  const modes = [
+    { label: '1', start: async () => startOne(await postgres.createDatabase(), dir), steps: [] },
+    { label: '2', start: async () => startTwo(await postgres.createDatabase(), redis.url, dir), steps: [] }
+  ]
+  console.log(`cluster capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; one process, then two (logs in ${dir})`)
+  try {
+    for (const mode of modes) {
+      for (const players of options.steps) {
+        const step = await measureStep(mode.start, { players, ...options })
+        mode.steps.push(step)
+        console.log(`${mode.label} process${mode.label === '1' ? '' : 'es'}, ${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)}, generator ${pct(step.generatorShare)}; tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms)} ms; ${step.redirects} redirects`)
+        if (!step.summary.passed) console.log(formatLeanSummary(step.summary))
+        if (!step.holds) break
+      }
+    }
+  } finally {
+    await redis.stop()
+    await postgres.stop()
+  }
+  console.log(`\n${clusterCapacityMarkdown(modes, { ...options, cpus: os.availableParallelism() })}`)
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) await main()

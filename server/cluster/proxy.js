@@ -9,7 +9,11 @@ import net from 'node:net'
  *   /n/{i}/…  → process i, prefix stripped: a process's PUBLIC_URL is
  *               http://HOST:PORT/n/{i}, so an E_WRONG_NODE `owner` leads the
  *               client to the process that runs its room, through this port.
- *   anything else → the next process, round robin.
+ *   anything else → the process with the fewest open connections through
+ *               this proxy (nginx's least_conn, as in deploy/nginx.conf),
+ *               ties taken in turn. A plain round robin put every
+ *               WebSocket of a client that makes one HTTP request before
+ *               each socket (session, then /ws) on the same process.
  *
  * WebSocket upgrades are piped as raw TCP after the request head.
  *
@@ -29,22 +33,40 @@ function withoutForwarding (headers) {
 }
 
 export function createProxy ({ targets, log = console }) {
-  let next = 0
+  /** Open requests and WebSockets through this proxy, per process. */
+  const open = targets.map(() => 0)
+  let turn = 0
+  /** The least busy process, the turn's first on a tie. */
+  const leastConnected = () => {
+    let best = turn % targets.length
+    for (let k = 1; k < targets.length; k++) {
+      const i = (turn + k) % targets.length
+      if (open[i] < open[best]) best = i
+    }
+    turn++
+    return best
+  }
   const route = (url) => {
     const match = /^\/n\/(\d+)(\/.*)?$/.exec(url.split('?')[0])
     if (match) {
       const index = Number(match[1])
       if (index >= targets.length) return null
       const rest = url.slice(`/n/${index}`.length) || '/'
-      return { target: targets[index], path: rest.startsWith('/') ? rest : '/' + rest }
+      return { index, target: targets[index], path: rest.startsWith('/') ? rest : '/' + rest }
     }
-    const target = targets[next++ % targets.length]
-    return { target, path: url }
+    const index = leastConnected()
+    return { index, target: targets[index], path: url }
+  }
+  /** Counts a connection to process `index` as open until `emitter` closes. */
+  const track = (index, emitter) => {
+    open[index]++
+    emitter.once('close', () => { open[index]-- })
   }
 
   const server = http.createServer((request, response) => {
     const routed = route(request.url)
     if (!routed) { response.writeHead(404, { 'content-type': 'application/json' }).end('{"code":"E_NOT_FOUND","message":"no such process"}'); return }
+    track(routed.index, response)
     const upstream = http.request({
       host: routed.target.host,
       port: routed.target.port,
@@ -66,6 +88,7 @@ export function createProxy ({ targets, log = console }) {
   server.on('upgrade', (request, socket, head) => {
     const routed = route(request.url)
     if (!routed) { socket.end('HTTP/1.1 404 Not Found\r\n\r\n'); return }
+    track(routed.index, socket)
     const upstream = net.connect(routed.target.port, routed.target.host, () => {
       const lines = [`${request.method} ${routed.path} HTTP/1.1`]
       for (let i = 0; i < request.rawHeaders.length; i += 2) {
