@@ -7,7 +7,10 @@
  * otherwise a private redis-server (no persistence) is started on a free
  * loopback port and stopped on exit. Worker i listens on PORT+1+i and
  * advertises PUBLIC_URL=http://HOST:PORT/n/i; the proxy (server/cluster/proxy.js)
- * serves PORT: /n/i/… goes to worker i, everything else round robin.
+ * serves PORT: /n/i/… goes to worker i, everything else to the worker with
+ * the fewest open connections. HTTP requests are proxied; a WebSocket is
+ * handed to its worker over the IPC channel (the socket itself), so the
+ * proxy carries no game frames.
  * A worker that exits is restarted after a second (its rooms move to the
  * others meanwhile, after LEASE_TTL_MS). Ctrl-C stops everything gracefully.
  */
@@ -54,10 +57,12 @@ for (let i = 0; i < workers; i++) {
 function startWorker (i) {
   const child = spawn(process.execPath, [path.join(ROOT, 'server/server.js')], {
     cwd: ROOT,
-    stdio: ['ignore', 'inherit', 'inherit'],
+    // The IPC channel carries the WebSockets the proxy hands over (server/cluster/socket-handoff.js).
+    stdio: ['ignore', 'inherit', 'inherit', 'ipc'],
     env: { ...process.env, REDIS_URL: redisUrl, PORT: String(port + 1 + i), HOST: '127.0.0.1', PUBLIC_URL: `http://${publicHost}:${port}/n/${i}`, TRUST_PROXY: 'loopback' }
   })
   children[i] = child
+  targets[i].child = child
   child.on('exit', (code, signal) => {
     if (stopping) return
     console.error(`cluster: worker ${i} exited (${signal ?? code}); restarting in 1 s`)

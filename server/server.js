@@ -2,6 +2,7 @@ import { loadConfig, ConfigError } from './config.js'
 import { buildApp } from './app.js'
 import { logOutput, outputMode, prettyTarget } from './log-format.js'
 import { listenUrls, startBanner } from './start-banner.js'
+import { acceptHandedOffSockets } from './cluster/socket-handoff.js'
 
 /**
  * Starts the server: reads the configuration from the environment, builds
@@ -49,6 +50,8 @@ try {
   process.exit(1)
 }
 if (output.banner) process.stdout.write(startBanner(config, { urls: listenUrls(app.addresses()), logs: output.logs }))
+// Under npm run cluster, the proxy hands WebSockets over instead of piping them.
+acceptHandedOffSockets(app.server)
 started = true
 if (stopSignal !== null) shutDown(stopSignal)
 

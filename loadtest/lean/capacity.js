@@ -136,15 +136,22 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new 
   ].join('\n')
 }
 
-/** Replaces the text between the markers in `file` (or appends a section with them). @param {string} file @param {string} body */
-export function writeBetweenMarkers (file, body) {
+/** Where this command's table goes in loadtest/RESULTS.md. */
+export const CAPACITY_SECTION = Object.freeze({ begin: BEGIN_MARKER, end: END_MARKER, heading: 'Capacity (npm run loadtest:capacity)' })
+
+/**
+ * Replaces the text between a section's markers in `file` (or appends the
+ * section with them). @param {string} file @param {string} body
+ * @param {{ begin: string, end: string, heading: string }} [section]
+ */
+export function writeBetweenMarkers (file, body, { begin: beginMarker, end: endMarker, heading } = CAPACITY_SECTION) {
   const text = fs.readFileSync(file, 'utf8')
-  const begin = text.indexOf(BEGIN_MARKER)
-  const end = text.indexOf(END_MARKER)
-  const block = `${BEGIN_MARKER}\n${body}\n${END_MARKER}`
+  const begin = text.indexOf(beginMarker)
+  const end = text.indexOf(endMarker)
+  const block = `${beginMarker}\n${body}\n${endMarker}`
   const next = begin !== -1 && end > begin
-    ? text.slice(0, begin) + block + text.slice(end + END_MARKER.length)
-    : `${text.trimEnd()}\n\n## Capacity (npm run loadtest:capacity)\n\n${block}\n`
+    ? text.slice(0, begin) + block + text.slice(end + endMarker.length)
+    : `${text.trimEnd()}\n\n## ${heading}\n\n${block}\n`
   fs.writeFileSync(file, next)
 }
 

@@ -1,5 +1,6 @@
 import http from 'node:http'
 import net from 'node:net'
+import { canHandOff, handOff, HANDOFF_CLOSED } from './socket-handoff.js'
 
 /**
  * A small HTTP + WebSocket proxy in front of N server processes on one port
@@ -15,7 +16,11 @@ import net from 'node:net'
  *               WebSocket of a client that makes one HTTP request before
  *               each socket (session, then /ws) on the same process.
  *
- * WebSocket upgrades are piped as raw TCP after the request head.
+ * A WebSocket upgrade to a process this proxy started (a target with a
+ * `child` that has an IPC channel, as in scripts/cluster.js) is handed
+ * over: the socket itself goes to that process (socket-handoff.js), and the
+ * proxy carries none of its frames. To any other target it is piped as raw
+ * TCP after the request head.
  *
  * The processes learn the client's address from X-Forwarded-For, which this
  * proxy sets to the peer it sees, replacing whatever the client sent (a
@@ -32,6 +37,12 @@ function withoutForwarding (headers) {
   return kept
 }
 
+/**
+ * @param {object} options
+ * @param {{ host: string, port: number, child?: import('node:child_process').ChildProcess | null }[]} options.targets
+ *   the processes, in /n/{i} order; `child` (read at each upgrade: a restarted worker replaces it) takes WebSockets by hand-off
+ * @param {{ warn?: Function }} [options.log]
+ */
 export function createProxy ({ targets, log = console }) {
   /** Open requests and WebSockets through this proxy, per process. */
   const open = targets.map(() => 0)
@@ -62,6 +73,27 @@ export function createProxy ({ targets, log = console }) {
     open[index]++
     emitter.once('close', () => { open[index]-- })
   }
+  /** Sockets handed to each child and not yet closed there (it says so), for the counts above. */
+  const handedOff = new Map()
+  const handOffCounted = (index, child, socket, head) => {
+    let entry = handedOff.get(child)
+    if (!entry) {
+      entry = { open: 0 }
+      handedOff.set(child, entry)
+      child.on('message', (message) => {
+        if (message?.type === HANDOFF_CLOSED && entry.open > 0) { entry.open--; open[index]-- }
+      })
+      // A process that exits takes its sockets with it.
+      child.once('exit', () => { open[index] -= entry.open; entry.open = 0; handedOff.delete(child) })
+    }
+    entry.open++
+    open[index]++
+    handOff(child, socket, head, (error) => {
+      entry.open--
+      open[index]--
+      log.warn?.(`proxy: could not hand a socket to process ${index}: ${error.message}`)
+    })
+  }
 
   const server = http.createServer((request, response) => {
     const routed = route(request.url)
@@ -88,14 +120,18 @@ export function createProxy ({ targets, log = console }) {
   server.on('upgrade', (request, socket, head) => {
     const routed = route(request.url)
     if (!routed) { socket.end('HTTP/1.1 404 Not Found\r\n\r\n'); return }
+    const lines = [`${request.method} ${routed.path} HTTP/1.1`]
+    for (let i = 0; i < request.rawHeaders.length; i += 2) {
+      if (!FORWARDING_HEADERS.has(request.rawHeaders[i].toLowerCase())) lines.push(`${request.rawHeaders[i]}: ${request.rawHeaders[i + 1]}`)
+    }
+    lines.push(`X-Forwarded-For: ${request.socket.remoteAddress}`)
+    // The parser decoded the head as latin1: encoded back the same way, every byte is as the client sent it.
+    const upstreamHead = Buffer.from(lines.join('\r\n') + '\r\n\r\n', 'latin1')
+    const child = routed.target.child
+    if (canHandOff(child)) return handOffCounted(routed.index, child, socket, head?.length ? Buffer.concat([upstreamHead, head]) : upstreamHead)
     track(routed.index, socket)
     const upstream = net.connect(routed.target.port, routed.target.host, () => {
-      const lines = [`${request.method} ${routed.path} HTTP/1.1`]
-      for (let i = 0; i < request.rawHeaders.length; i += 2) {
-        if (!FORWARDING_HEADERS.has(request.rawHeaders[i].toLowerCase())) lines.push(`${request.rawHeaders[i]}: ${request.rawHeaders[i + 1]}`)
-      }
-      lines.push(`X-Forwarded-For: ${request.socket.remoteAddress}`)
-      upstream.write(lines.join('\r\n') + '\r\n\r\n')
+      upstream.write(upstreamHead)
       if (head?.length) upstream.write(head)
       upstream.pipe(socket)
       socket.pipe(upstream)

@@ -4,6 +4,7 @@ import os from 'node:os'
 import path from 'node:path'
 import { stepFigures, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER } from '../../loadtest/lean/capacity.js'
 import { measureFloor } from '../../loadtest/lean/measure-server.js'
+import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
 /** measureOurs()'s shape, with the figures that decide a step. */
 function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {} } = {}) {
@@ -60,6 +61,40 @@ describe('capacity steps', () => {
   it('reads its command line', () => {
     expect(parseCapacityArgs(['--steps', '1000, 2000', '--duration', '20s', '--all', '--no-results'])).toMatchObject({ steps: [1000, 2000], durationS: 20, all: true, writeResults: false, rooms: 100 })
     expect(() => parseCapacityArgs(['--steps', '1000,x'])).toThrow(/positive integer/)
+  })
+})
+
+describe('two-process capacity steps', () => {
+  /** One process's analysis (run-analysis.js) with the figures that decide a step. */
+  const analysis = ({ tickP99 = 0.004, lagP99 = 0.006, serverErrors = {} } = {}) => ({ tick: { p99: tickP99 }, tickLag: { p99: lagP99 }, serverErrors })
+  const step = (players, analyses, over = {}) => clusterStepFigures({ players, analyses, summary: { ...ours().summary, redirects: 3, ...over }, serverShare: 1.2, generatorShare: 0.5 })
+
+  it('holds only when every process does, and a followed E_WRONG_NODE is not an error', () => {
+    expect(step(2000, [analysis(), analysis({ serverErrors: { E_WRONG_NODE: 40 } })])).toMatchObject({ holds: true, processes: 2, redirects: 3, tickP99Ms: 4, lagP99Ms: 6 })
+    expect(step(2000, [analysis(), analysis({ lagP99: 0.03 })])).toMatchObject({ holds: false, failed: ['tick lag p99 < 16.7 ms'], lagP99Ms: 30 })
+    expect(step(2000, [analysis({ tickP99: 0.01 }), analysis()]).failed).toEqual(['tick p99 < 8 ms'])
+    expect(step(2000, [analysis(), analysis({ serverErrors: { E_WRONG_NODE: 1, E_SLOW_CONSUMER: 1 } })]).failed).toEqual(['0 errors'])
+    expect(step(2000, [analysis(), {}]).failed).toEqual(['tick p99 < 8 ms', 'tick lag p99 < 16.7 ms'])
+  })
+
+  it('tables both modes with the ratio of players held, in its own section of RESULTS.md', () => {
+    const modes = [
+      { label: '1', steps: [step(1000, [analysis()]), step(1500, [analysis({ lagP99: 0.02 })])] },
+      { label: '2', steps: [step(1000, [analysis(), analysis()]), step(1500, [analysis(), analysis()]), step(2000, [analysis(), analysis({ tickP99: 0.009 })])] }
+    ]
+    const markdown = clusterCapacityMarkdown(modes, { rooms: 100, durationS: 20, cpus: 2, date: new Date('2026-12-01T22:00:00Z') })
+    expect(markdown).toContain('**Players held: one process 1,000, two processes (npm run cluster -- --workers 2) 1,500: 1.50×**')
+    expect(markdown.split('\n').filter((line) => /^\| [12] \|/.test(line))).toHaveLength(5)
+    const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-capacity-')), 'RESULTS.md')
+    fs.writeFileSync(file, `# Results\n\n${BEGIN_MARKER}\none\n${END_MARKER}\n`)
+    writeBetweenMarkers(file, markdown, CLUSTER_SECTION)
+    writeBetweenMarkers(file, 'newer', CLUSTER_SECTION)
+    expect(fs.readFileSync(file, 'utf8')).toBe(`# Results\n\n${BEGIN_MARKER}\none\n${END_MARKER}\n\n## ${CLUSTER_SECTION.heading}\n\n${CLUSTER_SECTION.begin}\nnewer\n${CLUSTER_SECTION.end}\n`)
+  })
+
+  it('reads its command line', () => {
+    expect(parseClusterCapacityArgs(['--steps', '500,1000', '--ramp', '10s', '--no-results'])).toMatchObject({ steps: [500, 1000], rampS: 10, durationS: 20, rooms: 100, writeResults: false })
+    expect(() => parseClusterCapacityArgs(['--steps', '0'])).toThrow(/positive integer/)
   })
 })
 

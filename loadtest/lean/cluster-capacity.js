@@ -16,7 +16,9 @@
  * says how much of them each used.
  *
  * Steps per mode go up until the first that fails. Prints the table and
- * the ratio of players held; exit code 0 whatever the figures.
+ * the ratio of players held and writes them to loadtest/RESULTS.md between
+ * the `cluster-capacity:begin` / `:end` markers (--no-results: print
+ * only); exit code 0 whatever the figures, 2 for a bad command line.
  */
 import fs from 'node:fs'
 import os from 'node:os'
@@ -24,19 +26,25 @@ import net from 'node:net'
 import path from 'node:path'
 import { spawn } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
-import { parseCommandLine } from '../cli/command-line.js'
-import { optionsOrExit } from '../cli/usage-error.js'
-import { parseDuration, positiveInteger } from '../loadtest/driver/cli-args.js'
-import { startServer } from '../loadtest/driver/server-process.js'
-import { MetricsSampler, readProcStat } from '../loadtest/driver/metrics-sampler.js'
-import { analyzeServerSamples } from '../loadtest/driver/run-analysis.js'
-import { runLeanLoad, formatLeanSummary } from '../loadtest/lean/lean-generator.js'
-import { CRITERIA } from '../loadtest/lean/capacity.js'
-import { startPostgres } from '../tools/postgres-process.js'
-import { startRedis } from '../tools/redis-process.js'
-import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
+import { parseCommandLine } from '../../cli/command-line.js'
+import { optionsOrExit } from '../../cli/usage-error.js'
+import { parseDuration, positiveInteger } from '../driver/cli-args.js'
+import { startServer } from '../driver/server-process.js'
+import { MetricsSampler, readProcStat } from '../driver/metrics-sampler.js'
+import { analyzeServerSamples } from '../driver/run-analysis.js'
+import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
+import { CRITERIA, writeBetweenMarkers } from './capacity.js'
+import { startPostgres } from '../../tools/postgres-process.js'
+import { startRedis } from '../../tools/redis-process.js'
+import { LIFTED_LIMITS } from '../../tools/lifted-limits.js'
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..')
+const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
+export const CLUSTER_SECTION = Object.freeze({
+  begin: '<!-- cluster-capacity:begin (written by npm run loadtest:cluster-capacity) -->',
+  end: '<!-- cluster-capacity:end -->',
+  heading: 'Two processes (npm run loadtest:cluster-capacity)'
+})
 const CLUSTER_SCRIPT = path.join(ROOT, 'scripts/cluster.js')
 const OPERATOR_TOKEN = 'operator-token-for-cluster-capacity-0123'
 
@@ -46,6 +54,7 @@ export const USAGE = `usage: npm run loadtest:cluster-capacity -- [options]
   --rooms N        rooms (default 100)
   --duration TIME  steady phase per step (default 20s)
   --ramp TIME      players connect spread over this (default 15s)
+  --no-results     print only; do not write loadtest/RESULTS.md
   -h, --help`
 
 const OPTIONS = {
@@ -53,7 +62,8 @@ const OPTIONS = {
   steps: { type: 'string' },
   rooms: { type: 'string' },
   duration: { type: 'string' },
-  ramp: { type: 'string' }
+  ramp: { type: 'string' },
+  'no-results': { type: 'boolean', default: false }
 }
 
 /** @param {string[]} argv */
@@ -65,7 +75,8 @@ export function parseClusterCapacityArgs (argv) {
     steps: (values.steps ?? '500,1000,1500,2000,2500,3000').split(',').map((raw) => positiveInteger(raw.trim(), 'steps')),
     rooms: values.rooms === undefined ? 100 : positiveInteger(values.rooms, 'rooms'),
     durationS: parseDuration(values.duration ?? '20s', 'duration'),
-    rampS: parseDuration(values.ramp ?? '15s', 'ramp')
+    rampS: parseDuration(values.ramp ?? '15s', 'ramp'),
+    writeResults: !values['no-results']
   }
 }
 
@@ -98,7 +109,7 @@ function processTree (pid) {
 /** One server process on PostgreSQL. */
 async function startOne (databaseUrl, dir) {
   const server = await startServer({ dataDir: dir, logFile: path.join(dir, 'server.log'), env: { DATABASE_URL: databaseUrl } })
-  return { url: server.url, processes: [server.url], pids: () => [server.pid], stop: () => server.stop() }
+  return { url: server.url, processes: [server.url], proxyPid: null, pids: () => [server.pid], stop: () => server.stop() }
 }
 
 /** `npm run cluster -- --workers 2` (scripts/cluster.js) on PostgreSQL and Redis. */
@@ -126,6 +137,8 @@ async function startTwo (databaseUrl, redisUrl, dir) {
   return {
     url,
     processes,
+    // scripts/cluster.js itself is the proxy; its children are the workers.
+    proxyPid: child.pid,
     pids: () => processTree(child.pid),
     async stop () {
       child.kill('SIGTERM')
@@ -160,10 +173,6 @@ async function measureStep (start, { players, rooms, durationS, rampS }) {
     for (const sampler of samplers) await sampler.stop()
     // expectedClients 0: each process's own plateau (the players split between them by room).
     const analyses = samplers.map((sampler) => analyzeServerSamples(sampler.samples, { expectedClients: 0 }))
-    const worst = (read) => {
-      const values = analyses.map(read)
-      return values.some((value) => value === null || value === undefined) ? null : Math.max(...values) * 1000
-    }
     const seconds = (to.at - from.at) / 1000
     // CPU of the processes there over the whole window (the proxy and the workers; a restarted worker would not be).
     const serverCpuS = from.pids.reduce((total, pid) => {
@@ -171,32 +180,49 @@ async function measureStep (start, { players, rooms, durationS, rampS }) {
       return a === null || b === null || b === undefined ? total : total + b - a
     }, 0)
     const generatorCpuS = (to.generator.user - from.generator.user + to.generator.system - from.generator.system) / 1e6
-    const step = {
-      players,
-      processes: target.processes.length,
-      serverShare: serverCpuS / seconds,
-      generatorShare: generatorCpuS / seconds,
-      tickP99Ms: worst((a) => a.tick?.p99),
-      lagP99Ms: worst((a) => a.tickLag?.p99),
-      ackP50Ms: summary.steady.ackMs.p50,
-      ackP99Ms: summary.steady.ackMs.p99,
-      settledP99Ms: summary.steady.settledMs.p99,
-      dropsSent: summary.dropsSent,
-      dropsSettled: summary.dropsSettled,
-      unsettled: summary.unsettled,
-      redirects: summary.redirects,
-      errors: summary.errorCount,
-      // A join answered E_WRONG_NODE is a redirect the generator followed (and counted), not an error.
-      serverErrors: analyses.reduce((total, a) => total + Object.entries(a.serverErrors ?? {}).reduce((sum, [code, count]) => code === 'E_WRONG_NODE' ? sum : sum + count, 0), 0),
-      summary
-    }
-    step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
-    step.holds = step.failed.length === 0
+    const proxyCpuS = target.proxyPid === null ? null : (to.cpuS.get(target.proxyPid) ?? 0) - (from.cpuS.get(target.proxyPid) ?? 0)
+    const step = clusterStepFigures({ players, analyses, summary, serverShare: serverCpuS / seconds, proxyShare: proxyCpuS === null ? null : proxyCpuS / seconds, generatorShare: generatorCpuS / seconds })
     return step
   } finally {
     for (const sampler of samplers) if (sampler.running) await sampler.stop()
     await target.stop()
   }
+}
+
+/**
+ * One step's figures and verdict: the generator's, and the worst of the
+ * processes' tick figures (a step holds only if every process does).
+ * serverShare: cores used by the server processes and the proxy together; proxyShare: by the proxy (null: none).
+ * @param {{ players: number, analyses: ReturnType<typeof analyzeServerSamples>[], summary: Awaited<ReturnType<typeof runLeanLoad>>, serverShare: number, proxyShare?: number | null, generatorShare: number }} measured
+ */
+export function clusterStepFigures ({ players, analyses, summary, serverShare, proxyShare = null, generatorShare }) {
+  const worst = (read) => {
+    const values = analyses.map(read)
+    return values.some((value) => value === null || value === undefined) ? null : Math.max(...values) * 1000
+  }
+  const step = {
+    players,
+    processes: analyses.length,
+    serverShare,
+    proxyShare,
+    generatorShare,
+    tickP99Ms: worst((a) => a.tick?.p99),
+    lagP99Ms: worst((a) => a.tickLag?.p99),
+    ackP50Ms: summary.steady.ackMs.p50,
+    ackP99Ms: summary.steady.ackMs.p99,
+    settledP99Ms: summary.steady.settledMs.p99,
+    dropsSent: summary.dropsSent,
+    dropsSettled: summary.dropsSettled,
+    unsettled: summary.unsettled,
+    redirects: summary.redirects,
+    errors: summary.errorCount,
+    // A join answered E_WRONG_NODE is a redirect the generator followed (and counted), not an error.
+    serverErrors: analyses.reduce((total, a) => total + Object.entries(a.serverErrors ?? {}).reduce((sum, [code, count]) => code === 'E_WRONG_NODE' ? sum : sum + count, 0), 0),
+    summary
+  }
+  step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
+  step.holds = step.failed.length === 0
+  return step
 }
 
 const f = (value, digits = 0) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
@@ -206,8 +232,8 @@ const pct = (share) => share === null || share === undefined ? '–' : `${f(shar
 export function clusterCapacityMarkdown (modes, { rooms, durationS, cpus, date = new Date() }) {
   const held = (steps) => Math.max(0, ...steps.filter((step) => step.holds).map((step) => step.players))
   const [one, two] = modes.map((mode) => held(mode.steps))
-  const header = '| processes | players | server CPU (all processes) | generator CPU | tick p99 (worst) | lag p99 (worst) | drop → dropped p50 / p99 | drop → settled p99 | redirects | errors, unsettled | verdict |'
-  const rows = modes.flatMap((mode) => mode.steps.map((step) => `| ${mode.label} | ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${pct(step.generatorShare)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms)} / ${f(step.ackP99Ms)} ms | ${f(step.settledP99Ms)} ms | ${step.redirects} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`))
+  const header = '| processes | players | server CPU (processes + proxy) | of which the proxy | generator CPU | tick p99 (worst) | lag p99 (worst) | drop → dropped p50 / p99 | drop → settled p99 | redirects | errors, unsettled | verdict |'
+  const rows = modes.flatMap((mode) => mode.steps.map((step) => `| ${mode.label} | ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${step.proxyShare === null ? '–' : pct(step.proxyShare)} | ${pct(step.generatorShare)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms)} / ${f(step.ackP99Ms)} ms | ${f(step.settledP99Ms)} ms | ${step.redirects} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`))
   return [
     `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${cpus} CPUs shared by everything (not pinned), PostgreSQL ledger, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step.`,
     '',
@@ -234,7 +260,7 @@ async function main () {
       for (const players of options.steps) {
         const step = await measureStep(mode.start, { players, ...options })
         mode.steps.push(step)
-        console.log(`${mode.label} process${mode.label === '1' ? '' : 'es'}, ${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)}, generator ${pct(step.generatorShare)}; tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms)} ms; ${step.redirects} redirects`)
+        console.log(`${mode.label} process${mode.label === '1' ? '' : 'es'}, ${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)}${step.proxyShare === null ? '' : ` (proxy ${pct(step.proxyShare)})`}, generator ${pct(step.generatorShare)}; tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms)} ms; ${step.redirects} redirects`)
         if (!step.summary.passed) console.log(formatLeanSummary(step.summary))
         if (!step.holds) break
       }
@@ -243,7 +269,12 @@ async function main () {
     await redis.stop()
     await postgres.stop()
   }
-  console.log(`\n${clusterCapacityMarkdown(modes, { ...options, cpus: os.availableParallelism() })}`)
+  const markdown = clusterCapacityMarkdown(modes, { ...options, cpus: os.availableParallelism() })
+  console.log(`\n${markdown}`)
+  if (options.writeResults) {
+    writeBetweenMarkers(RESULTS, markdown, CLUSTER_SECTION)
+    console.log(`\nwritten to ${path.relative(process.cwd(), RESULTS)}`)
+  }
 }
 
 if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) await main()
