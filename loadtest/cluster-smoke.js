@@ -18,7 +18,7 @@ import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import { startPostgres } from '../tools/postgres-process.js'
 import { query, ledgerMismatches } from '../tools/ledger-checks.js'
-import { freePort } from '../tools/free-port.js'
+import { freePortRun } from '../tools/free-port.js'
 import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
@@ -44,7 +44,8 @@ for (const signal of ['SIGINT', 'SIGTERM']) {
 let exitCode = 1
 try {
   const databaseUrl = await postgres.createDatabase()
-  const port = await freePort()
+  // The proxy on PORT, worker i on PORT + 1 + i.
+  const port = await freePortRun(Number(values.workers) + 1)
   const base = `http://127.0.0.1:${port}`
   // Its own process group, so that the whole cluster (proxy and workers) can be stopped at once.
   cluster = spawn(process.execPath, [path.join(ROOT, 'scripts/cluster.js'), '--workers', values.workers, '--port', String(port)], {

@@ -47,16 +47,21 @@ export const USAGE = `usage: npm run loadtest:capacity -- [options]
   --no-results         print only; do not write loadtest/RESULTS.md
   -h, --help`
 
-const OPTIONS = {
+/** The options every stepping run takes (this one and cluster-capacity.js). */
+export const STEP_OPTIONS = Object.freeze({
   help: { type: 'boolean', short: 'h' },
   steps: { type: 'string' },
   rooms: { type: 'string' },
   duration: { type: 'string' },
   ramp: { type: 'string' },
+  'no-results': { type: 'boolean', default: false }
+})
+
+const OPTIONS = {
+  ...STEP_OPTIONS,
   'floor-seconds': { type: 'string' },
   workers: { type: 'string' },
-  all: { type: 'boolean', default: false },
-  'no-results': { type: 'boolean', default: false }
+  all: { type: 'boolean', default: false }
 }
 
 /** @param {string[]} argv */

@@ -22,7 +22,6 @@
  */
 import fs from 'node:fs'
 import os from 'node:os'
-import net from 'node:net'
 import path from 'node:path'
 import { spawn } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
@@ -33,10 +32,11 @@ import { startServer } from '../driver/server-process.js'
 import { MetricsSampler, readProcStat } from '../driver/metrics-sampler.js'
 import { analyzeServerSamples } from '../driver/run-analysis.js'
 import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
-import { CRITERIA, writeBetweenMarkers } from './capacity.js'
+import { CRITERIA, STEP_OPTIONS, writeBetweenMarkers } from './capacity.js'
 import { startPostgres } from '../../tools/postgres-process.js'
 import { startRedis } from '../../tools/redis-process.js'
 import { LIFTED_LIMITS } from '../../tools/lifted-limits.js'
+import { freePortRun } from '../../tools/free-port.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..')
 const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
@@ -57,18 +57,10 @@ export const USAGE = `usage: npm run loadtest:cluster-capacity -- [options]
   --no-results     print only; do not write loadtest/RESULTS.md
   -h, --help`
 
-const OPTIONS = {
-  help: { type: 'boolean', short: 'h' },
-  steps: { type: 'string' },
-  rooms: { type: 'string' },
-  duration: { type: 'string' },
-  ramp: { type: 'string' },
-  'no-results': { type: 'boolean', default: false }
-}
 
 /** @param {string[]} argv */
 export function parseClusterCapacityArgs (argv) {
-  const values = parseCommandLine(argv, OPTIONS, { repeated: 'last' })
+  const values = parseCommandLine(argv, STEP_OPTIONS, { repeated: 'last' })
   if (values.help) return { help: true }
   return {
     help: false,
@@ -78,18 +70,6 @@ export function parseClusterCapacityArgs (argv) {
     rampS: parseDuration(values.ramp ?? '15s', 'ramp'),
     writeResults: !values['no-results']
   }
-}
-
-/** `count` consecutive free loopback ports (the cluster's proxy on the first, worker i on first + 1 + i). */
-async function freePortRun (count) {
-  for (let attempt = 0; attempt < 50; attempt++) {
-    const base = 20000 + Math.floor(Math.random() * 40000)
-    const free = await Promise.all(Array.from({ length: count }, (_, i) => new Promise((resolve) => {
-      const server = net.createServer().once('error', () => resolve(false)).listen(base + i, '127.0.0.1', () => server.close(() => resolve(true)))
-    })))
-    if (free.every(Boolean)) return base
-  }
-  throw new Error('no run of free ports')
 }
 
 /** The pids of a process and its children (the cluster's workers), from /proc. @param {number} pid */

@@ -1,25 +1,13 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { spawn } from 'node:child_process'
-import net from 'node:net'
 import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { startPostgres } from '../../tools/postgres-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
 import { startRedis, eventually, OPERATOR_TOKEN } from './helpers/cluster.js'
+import { freePortRun } from '../../tools/free-port.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..')
-
-/** Three consecutive free loopback ports (proxy + two workers). */
-async function freeRun (count) {
-  for (let attempt = 0; attempt < 50; attempt++) {
-    const base = 20000 + Math.floor(Math.random() * 40000)
-    const ok = await Promise.all(Array.from({ length: count }, (_, i) => new Promise((resolve) => {
-      const server = net.createServer().once('error', () => resolve(false)).listen(base + i, '127.0.0.1', () => server.close(() => resolve(true)))
-    })))
-    if (ok.every(Boolean)) return base
-  }
-  throw new Error('no free port run')
-}
 
 describe('npm run cluster -- --workers 2', () => {
   let postgres, redis
@@ -27,7 +15,7 @@ describe('npm run cluster -- --workers 2', () => {
   afterAll(async () => { await redis?.stop(); await postgres?.stop() })
 
   it('serves two workers behind one port, routes /n/i/ to worker i and follows E_WRONG_NODE through the proxy', async () => {
-    const port = await freeRun(3)
+    const port = await freePortRun(3)
     const databaseUrl = await postgres.createDatabase()
     const child = spawn(process.execPath, [path.join(ROOT, 'scripts/cluster.js'), '--workers', '2', '--port', String(port)], {
       cwd: ROOT,

@@ -1,7 +1,6 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import Redis from 'ioredis'
-import { startPostgres } from '../../tools/postgres-process.js'
-import { startRedis, startNode, query, ledgerMismatches, eventually, playerSockets } from './helpers/cluster.js'
+import { clusterTestbed, query, ledgerMismatches, eventually } from './helpers/cluster.js'
 
 /**
  * The clustered topology without Docker: a real PostgreSQL, a real Redis
@@ -11,29 +10,13 @@ const LEASE_TTL_MS = 1500
 const START = 100000
 
 describe('cluster: rooms, redirects, shared balances and takeover', () => {
-  let postgres, redis
-  const nodes = []
-  const { connect, join, closeAll } = playerSockets()
-
-  beforeAll(async () => {
-    postgres = await startPostgres()
-    redis = await startRedis()
-  })
-  afterAll(async () => {
-    await closeAll()
-    for (const node of nodes) await node.stop().catch(() => {})
-    await redis?.stop()
-    await postgres?.stop()
-  })
+  const testbed = clusterTestbed()
+  const { connect, join } = testbed
 
   async function cluster (count, env = {}) {
-    const databaseUrl = await postgres.createDatabase()
+    const databaseUrl = await testbed.postgres.createDatabase()
     const started = []
-    for (let i = 0; i < count; i++) {
-      const node = await startNode({ databaseUrl, redisUrl: redis.url, env: { LEASE_TTL_MS: String(LEASE_TTL_MS), ...env } })
-      nodes.push(node)
-      started.push(node)
-    }
+    for (let i = 0; i < count; i++) started.push(await testbed.startNode({ databaseUrl, env: { LEASE_TTL_MS: String(LEASE_TTL_MS), ...env } }))
     return { databaseUrl, nodes: started }
   }
 
@@ -141,7 +124,7 @@ describe('cluster: rooms, redirects, shared balances and takeover', () => {
     const frank = await a.session()
     const onA = await connect(a, frank.token)
     await join(onA, '9-medium')
-    const redisClient = new Redis(redis.url)
+    const redisClient = new Redis(testbed.redis.url)
     try {
       await redisClient.set('plinko:room:9-medium:lease', 'another-process', 'PX', 60_000)
       const moved = await onA.take((m) => m.type === 'error' && m.code === 'E_ROOM_MOVING', LEASE_TTL_MS * 2)

@@ -1,6 +1,5 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { startPostgres } from '../../tools/postgres-process.js'
-import { startRedis, startNode, ledgerMismatches, playerSockets } from './helpers/cluster.js'
+import { describe, it, expect } from 'vitest'
+import { clusterTestbed, ledgerMismatches } from './helpers/cluster.js'
 import { runLeanLoad } from '../../loadtest/lean/lean-generator.js'
 
 /**
@@ -12,21 +11,12 @@ import { runLeanLoad } from '../../loadtest/lean/lean-generator.js'
 const START = 100000
 
 describe('cluster: the lean generator follows E_WRONG_NODE', () => {
-  let postgres, redis
-  const nodes = []
-  const { connect, join, closeAll } = playerSockets()
-  beforeAll(async () => { postgres = await startPostgres(); redis = await startRedis() })
-  afterAll(async () => {
-    await closeAll()
-    for (const node of nodes) await node.stop().catch(() => {})
-    await redis?.stop()
-    await postgres?.stop()
-  })
+  const testbed = clusterTestbed()
 
   it('plays the players of a room on another process there, every check passing', async () => {
-    const databaseUrl = await postgres.createDatabase()
-    for (let i = 0; i < 2; i++) nodes.push(await startNode({ databaseUrl, redisUrl: redis.url, env: { STARTING_BALANCE: String(START) } }))
-    const [a, b] = nodes
+    const { connect, join } = testbed
+    const databaseUrl = await testbed.postgres.createDatabase()
+    const [a, b] = [await testbed.startNode({ databaseUrl, env: { STARTING_BALANCE: String(START) } }), await testbed.startNode({ databaseUrl, env: { STARTING_BALANCE: String(START) } })]
     // B takes the first room the generator will use; A takes the second when its players join.
     const { roomIds } = await (await fetch(`${a.url}/api/rooms`)).json()
     const holder = await connect(b, (await b.session()).token)

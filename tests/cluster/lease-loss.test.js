@@ -1,7 +1,6 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import Redis from 'ioredis'
-import { startPostgres } from '../../tools/postgres-process.js'
-import { startRedis, startNode, query, ledgerMismatches, eventually, playerSockets } from './helpers/cluster.js'
+import { clusterTestbed, query, ledgerMismatches, eventually } from './helpers/cluster.js'
 
 /**
  * A process loses a room's lease with drops in flight, and drops still
@@ -13,21 +12,13 @@ const LEASE_TTL_MS = 1500
 const START = 100000
 
 describe('cluster: a lease lost with drops in flight', () => {
-  let postgres, redis
-  const nodes = []
-  const { connect, join, closeAll } = playerSockets()
-  beforeAll(async () => { postgres = await startPostgres(); redis = await startRedis() })
-  afterAll(async () => {
-    await closeAll()
-    for (const node of nodes) await node.stop().catch(() => {})
-    await redis?.stop()
-    await postgres?.stop()
-  })
+  const testbed = clusterTestbed()
+  const { connect, join } = testbed
 
   it('settles every drop exactly once and leaves the whole balance available on the process that lost the room', async () => {
-    const databaseUrl = await postgres.createDatabase()
-    for (let i = 0; i < 2; i++) nodes.push(await startNode({ databaseUrl, redisUrl: redis.url, env: { LEASE_TTL_MS: String(LEASE_TTL_MS), DROP_RATE: '200', DROP_BURST: '200' } }))
-    const [a, b] = nodes
+    const databaseUrl = await testbed.postgres.createDatabase()
+    const env = { LEASE_TTL_MS: String(LEASE_TTL_MS), DROP_RATE: '200', DROP_BURST: '200' }
+    const [a, b] = [await testbed.startNode({ databaseUrl, env }), await testbed.startNode({ databaseUrl, env })]
     const alice = await a.session()
     const onA = await connect(a, alice.token)
     expect(await join(onA, '16-high')).toMatchObject({ type: 'joined' })
@@ -42,7 +33,7 @@ describe('cluster: a lease lost with drops in flight', () => {
       }
     })()
     // The lease goes to B: A's expires (here: is deleted) and a player joins the room on B.
-    const redisClient = new Redis(redis.url)
+    const redisClient = new Redis(testbed.redis.url)
     try {
       await redisClient.del('plinko:room:16-high:lease')
       const bob = await b.session()

@@ -1,10 +1,13 @@
 import { spawn } from 'node:child_process'
 import path from 'node:path'
+import { beforeAll, afterAll } from 'vitest'
 import { fileURLToPath } from 'node:url'
 import { freePort } from '../../../tools/free-port.js'
 import { eventually as pollUntil } from '../../../tools/eventually.js'
 import { LIFTED_LIMITS } from '../../../tools/lifted-limits.js'
 import { GameClient } from '../../server/helpers/game-client.js'
+import { startPostgres } from '../../../tools/postgres-process.js'
+import { startRedis as startRedisProcess } from '../../../tools/redis-process.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../../..')
 export const OPERATOR_TOKEN = 'operator-token-for-cluster-tests-0123'
@@ -32,6 +35,38 @@ export function playerSockets () {
       for (const client of clients.splice(0)) await client.close().catch(() => {})
     }
   }
+}
+
+/**
+ * What a cluster test file runs on, started before its tests and stopped
+ * after them (nodes and player sockets first): a throwaway PostgreSQL and
+ * Redis, the nodes it starts with `startNode`, the sockets of
+ * playerSockets(). Use inside a describe().
+ */
+export function clusterTestbed () {
+  const testbed = {
+    /** @type {any} */ postgres: null,
+    /** @type {any} */ redis: null,
+    nodes: [],
+    ...playerSockets(),
+    /** A cluster member on `databaseUrl` and the testbed's Redis, stopped with the testbed. @param {{ databaseUrl: string, env?: Record<string, string> }} options */
+    async startNode ({ databaseUrl, env }) {
+      const node = await startNode({ databaseUrl, redisUrl: testbed.redis.url, env })
+      testbed.nodes.push(node)
+      return node
+    }
+  }
+  beforeAll(async () => {
+    testbed.postgres = await startPostgres()
+    testbed.redis = await startRedisProcess()
+  })
+  afterAll(async () => {
+    await testbed.closeAll()
+    for (const node of testbed.nodes) await node.stop().catch(() => {})
+    await testbed.redis?.stop()
+    await testbed.postgres?.stop()
+  })
+  return testbed
 }
 
 // One launcher each for the whole project (npm run cluster uses them too).
