@@ -1,6 +1,6 @@
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { describe, it, expect } from 'vitest'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 
 /**
  * /docs (Swagger UI) and /docs/websocket under the app's real
@@ -11,14 +11,7 @@ import { launchChromium, waitInPage } from './helpers/browser.js'
 describe('API description pages in Chromium', () => {
   let server
   let chromium
-  beforeAll(async () => {
-    server = await startArenaServer()
-    chromium = await launchChromium()
-  })
-  afterAll(async () => {
-    await chromium?.close()
-    await server?.close()
-  })
+  serverAndChromium({}, (started) => ({ server, chromium } = started))
 
   /** A page that records CSP violations (securitypolicyviolation events) as they happen. */
   async function openPage (path) {

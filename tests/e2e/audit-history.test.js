@@ -5,10 +5,11 @@
  * opens its statistics and sees the measured RTP as it grew over those
  * drops, ending on the figure the stats endpoint reports.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { rtpStatistics } from '../../engine/index.js'
-import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { OPERATOR_TOKEN } from './helpers/arena-server.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { screenshotBoth, expectNotBlank } from './helpers/player-page.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
@@ -18,9 +19,8 @@ const DROPS = 16
 let server
 let chromium
 
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 180 })
-  chromium = await launchChromium()
+serverAndChromium({ tickRate: 180 }, async (started) => {
+  ({ server, chromium } = started)
   const player = (await server.api('POST', '/api/session')).body
   const client = await GameClient.connect(server.wsUrl(player.token))
   client.send({ type: 'join', room: ROOM })
@@ -28,11 +28,6 @@ beforeAll(async () => {
   for (let i = 0; i < DROPS; i++) client.send({ type: 'drop', bet: 10 })
   for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
   await client.close()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
 })
 
 describe('operator page: a quiet room\'s RTP chart', () => {

@@ -5,12 +5,13 @@
  * they match, replay the drop on the canvas (play, step, scrub), list a
  * player's drops and chart a room's measured RTP against the calibrated one.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { writeFileSync, mkdirSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
-import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { OPERATOR_TOKEN } from './helpers/arena-server.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { imageStats } from './helpers/png.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
@@ -22,9 +23,8 @@ let chromium
 let player
 let drops
 
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 180 })
-  chromium = await launchChromium()
+serverAndChromium({ tickRate: 180 }, async (started) => {
+  ({ server, chromium } = started)
   // A player drops a few balls over the protocol and waits for them to settle.
   player = (await server.api('POST', '/api/session')).body
   const client = await GameClient.connect(server.wsUrl(player.token))
@@ -34,11 +34,6 @@ beforeAll(async () => {
   for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
   await client.close()
   drops = (await server.api('GET', '/api/drops', { token: player.token })).body.drops
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
 })
 
 async function openAudit () {

@@ -9,11 +9,10 @@
  *   - the esbuild bundle of probe + engine + seedrandom
  *     (tests/helpers/engine-bundle.js), as QuickJS runs it.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { readFileSync } from 'node:fs'
 import { fileURLToPath } from 'node:url'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { ENGINE_VERSIONS } from '../../engine/index.js'
 import { determinismDropsOfEveryVersion } from '../helpers/determinism-inputs.js'
 import { buildProbeBundle, PROBE_GLOBAL } from '../helpers/engine-bundle.js'
@@ -27,15 +26,9 @@ let chromium
 let node
 const drops = determinismDropsOfEveryVersion(1000)
 
-beforeAll(async () => {
+serverAndChromium({}, async (started) => {
+  ({ server, chromium } = started)
   node = runDeterminismProbe(drops)
-  server = await startArenaServer()
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
 })
 
 function expectSameOutcomes (chrome, how) {

@@ -7,10 +7,11 @@
  * revealed 1.0.0 drop; the operator page replays a 1.0.0 drop with the
  * stored record, the server's and the browser's re-simulation agreeing.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { ENGINE_VERSION } from '../../engine/index.js'
-import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { OPERATOR_TOKEN } from './helpers/arena-server.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { ledgerFixture, fixtureDrops } from '../helpers/ledger-fixture.js'
 
 const fixture = ledgerFixture('1.0.0')
@@ -19,16 +20,7 @@ const a = fixture.players.a
 
 let server
 let chromium
-
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 180, ledger: fixture.sqliteFile })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+serverAndChromium({ tickRate: 180, ledger: fixture.sqliteFile }, (started) => ({ server, chromium } = started))
 
 describe('a 1.0.0 ledger after the upgrade, in Chromium', () => {
   it('the player page verifies every 1.0.0 drop of its history under 1.0.0', async () => {

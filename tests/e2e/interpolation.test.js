@@ -8,25 +8,16 @@
  * every ball is drawn within half a pixel of where the engine's
  * simulation has it at that tick — no teleporting, no stutter.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { describe, it, expect } from 'vitest'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 
 const MAX_FRAME_DELAY_MS = 150
 const DROPS = 8
 
 let server
 let chromium
-
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 60 })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+serverAndChromium({ tickRate: 60 }, (started) => ({ server, chromium } = started))
 
 /** A small seeded generator, so a failing run can be repeated. */
 function lcg (seed) {

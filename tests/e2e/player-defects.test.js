@@ -8,24 +8,16 @@
  * room is joined (no layout shift) and the header stays one line at 390 px
  * with a balance of 10⁹.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { createHash } from 'node:crypto'
 import { startArenaServer, OPERATOR_TOKEN } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { openPlayer, screenshotBoth, expectNotBlank, PHONE, tamperSettledStateHash } from './helpers/player-page.js'
 
 let server
 let chromium
-
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 60 })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+serverAndChromium({ tickRate: 60 }, (started) => ({ server, chromium } = started))
 
 const sha256 = (text) => createHash('sha256').update(text, 'utf8').digest('hex')
 

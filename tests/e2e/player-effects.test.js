@@ -9,26 +9,17 @@
  * player's active server seed from the in-process server and picks the
  * client seed (helpers/player-page.js).
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { createBoard, simulateDrop, deriveDropSeed } from '../../engine/index.js'
 import { pegContacts } from '../../client/peg-contacts.js'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { openPlayer, screenshotBoth, expectNotBlank, activeServerSeed, clientSeedFor, setClientSeed, canvasStats } from './helpers/player-page.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
 let server
 let chromium
-
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 60 })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+serverAndChromium({ tickRate: 60 }, (started) => ({ server, chromium } = started))
 
 /** Waits until drop `dropId`'s result has been revealed on the page (landed on screen and settled). */
 function revealed (page, count) {

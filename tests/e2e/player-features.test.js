@@ -7,28 +7,19 @@
  * clamped to the balance, board changes refused while own balls fall, and
  * game recall (any past drop replayed from its seed with its fairness data).
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { createBoard } from '../../engine/index.js'
 import { toCredits, toMilli } from '../../protocol/payout.js'
 import { bucketColors } from '../../client/board-renderer.js'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { openPlayer, screenshotBoth, expectNotBlank, activeServerSeed, clientSeedFor, setClientSeed, canvasStats, PHONE } from './helpers/player-page.js'
 import { GameClient } from '../server/helpers/game-client.js'
 
 let server
 let chromium
-
-beforeAll(async () => {
-  // Three times real time: outcomes are the same, the page measures the rate.
-  server = await startArenaServer({ tickRate: 180 })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+// Three times real time: outcomes are the same, the page measures the rate.
+serverAndChromium({ tickRate: 180 }, (started) => ({ server, chromium } = started))
 
 const allSettled = (page, count) => waitInPage(page, `${count} settled drops`, (n) => window.__plinko.history.length >= n && window.__plinko.history.every((h) => h.payout !== null) && window.__plinko.pendingVerifications === 0, count, 120_000)
 

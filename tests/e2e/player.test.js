@@ -9,12 +9,12 @@
  * verification of a revealed drop in the browser), room changes and a
  * phone-sized screen.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { describe, it, expect } from 'vitest'
 import { mkdirSync, writeFileSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 import { canvasStats, tamperSettledStateHash } from './helpers/player-page.js'
 import { imageStats } from './helpers/png.js'
 import { GameClient } from '../server/helpers/game-client.js'
@@ -24,15 +24,9 @@ const SCREENSHOTS = join(tmpdir(), 'plinko-e2e-screenshots')
 let server
 let chromium
 
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 60 })
-  chromium = await launchChromium()
+serverAndChromium({ tickRate: 60 }, async (started) => {
+  ({ server, chromium } = started)
   mkdirSync(SCREENSHOTS, { recursive: true })
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
 })
 
 /** Saves a screenshot and returns what is on it. */

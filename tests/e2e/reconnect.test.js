@@ -8,22 +8,13 @@
  * Servers here run at 180 wall-clock ticks per second: outcomes are the
  * same as at 60, and the page measures the real rate.
  */
-import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { startArenaServer } from './helpers/arena-server.js'
-import { launchChromium, waitInPage } from './helpers/browser.js'
+import { describe, it, expect } from 'vitest'
+import { waitInPage } from './helpers/browser.js'
+import { serverAndChromium } from './helpers/testbed.js'
 
 let server
 let chromium
-
-beforeAll(async () => {
-  server = await startArenaServer({ tickRate: 180 })
-  chromium = await launchChromium()
-})
-
-afterAll(async () => {
-  await chromium?.close()
-  await server?.close()
-})
+serverAndChromium({ tickRate: 180 }, (started) => ({ server, chromium } = started))
 
 function snapshot (page) {
   return page.evaluate(() => ({
