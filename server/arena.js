@@ -82,8 +82,16 @@ export class Arena {
     for (const room of this.rooms.values()) {
       if (room.clients.size === 0 || !room.snapshotDue) continue
       const { frame, events } = room.encodeFrame()
-      if (frame !== null) for (const client of room.clients) client.sendRoomFrame(frame, events)
-      else if (events !== null) room.sendEvents(events)
+      if (frame !== null) {
+        let written = 0
+        for (const client of room.clients) if (client.sendRoomFrame(frame, events)) written++
+        if (written > 0) {
+          this.metrics.snapshotOut.inc(written)
+          this.metrics.bytesOut.inc(written * frame.length)
+        }
+      } else if (events !== null) {
+        room.sendEvents(events)
+      }
     }
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)

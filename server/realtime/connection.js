@@ -176,32 +176,27 @@ export class Connection {
   /**
    * The room's frame for this snapshot period. The snapshot in it may be
    * skipped (the next one supersedes it), its events may not: over the soft
-   * limit, the events alone are sent, as `{type:"events"}`.
+   * limit, the events alone are sent, as `{type:"events"}`. The send queue
+   * is read once per frame; the caller counts the frames written (one
+   * metrics update per room, not per socket).
    * @param {Buffer} frame @param {string | null} events the frame's events as a JSON array, or null
+   * @returns {boolean} the frame was written
    */
   sendRoomFrame (frame, events) {
-    if (this.closed) return
-    if (events !== null && this.socket.bufferedAmount > this.softLimit && this.socket.bufferedAmount <= this.hardLimit) {
-      this.metrics.snapshotsSkipped.inc()
-      this.sendEvent(this.room.eventsMessage(events), 'events')
-      return
-    }
-    this.sendSnapshot(frame)
-  }
-
-  /** A snapshot may be skipped: the next one supersedes it. @param {Buffer} frame */
-  sendSnapshot (frame) {
-    if (this.closed) return
+    if (this.closed) return false
     const queued = this.socket.bufferedAmount
-    if (queued > this.hardLimit) return this._tooSlow()
+    if (queued > this.hardLimit) {
+      this._tooSlow()
+      return false
+    }
     if (queued > this.softLimit) {
       this.metrics.snapshotsSkipped.inc()
-      return
+      if (events !== null) this.sendEvent(this.room.eventsMessage(events), 'events')
+      return false
     }
     holdWritesUntilEndOfTurn(this.socket)
     this.socket.send(frame, { binary: true })
-    this.metrics.snapshotOut.inc()
-    this.metrics.bytesOut.inc(frame.length)
+    return true
   }
 
   /**

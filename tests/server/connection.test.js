@@ -44,12 +44,12 @@ describe('Connection backpressure', () => {
     const { socket, metrics, connection, account } = setup()
     connection.authenticated(account)
     const frame = Buffer.from([1, 0, 0, 0, 0, 0, 0])
-    connection.sendSnapshot(frame)
+    connection.sendRoomFrame(frame, null)
     expect(socket.sent.at(-1)).toBe(frame)
     socket.bufferedAmount = 1001
     const sent = socket.sent.length
-    connection.sendSnapshot(frame)
-    connection.sendSnapshot(frame)
+    connection.sendRoomFrame(frame, null)
+    connection.sendRoomFrame(frame, null)
     expect(socket.sent.length).toBe(sent)
     expect(await value(metrics, 'plinko_snapshots_skipped_total')).toBe(2)
     connection.sendEvent('{"type":"settled"}', 'settled')
@@ -61,7 +61,7 @@ describe('Connection backpressure', () => {
     const { socket, metrics, connection, account, released } = setup()
     connection.authenticated(account)
     socket.bufferedAmount = 5001
-    connection.sendSnapshot(Buffer.from([1]))
+    connection.sendRoomFrame(Buffer.from([1]), null)
     expect(socket.closedWith).toEqual({ code: 1013, reason: 'E_SLOW_CONSUMER' })
     expect(socket.paused).toBe(true) // not read any more
     expect(await value(metrics, 'plinko_ws_slow_consumers_closed_total')).toBe(1)
