@@ -11,6 +11,7 @@ import { describe, it, expect } from 'vitest'
 import { createBoard } from '../../engine/index.js'
 import { toCredits, toMilli } from '../../protocol/payout.js'
 import { bucketColors } from '../../client/board-renderer.js'
+import { BIG_WIN } from '../../client/live-feed.js'
 import { waitInPage } from './helpers/browser.js'
 import { serverAndChromium } from './helpers/testbed.js'
 import { openPlayer, screenshotBoth, expectNotBlank, activeServerSeed, clientSeedFor, setClientSeed, canvasStats, PHONE } from './helpers/player-page.js'
@@ -62,7 +63,9 @@ describe('player page features', () => {
       const own = seen.history.find((h) => h.dropId === f.dropId)
       expect(f).toMatchObject({ bet: 20, multiplier: own.multiplier, payout: own.payout, player: await page.evaluate(() => window.__plinko.playerId) })
     }
-    expect(await page.locator('#feed tr.big').count()).toBe(1)
+    // Big wins (≥ BIG_WIN×) are highlighted, whoever made them: the other's, and any of the page's own three that happened to be one.
+    for (const f of seen.feed) expect(f.big).toBe(f.multiplier >= BIG_WIN)
+    expect(await page.locator('#feed tr.big').count()).toBe(seen.feed.filter((f) => f.multiplier >= BIG_WIN).length)
 
     // The session: wagered, profit, drops and the chart's points.
     const profit = toCredits(seen.history.reduce((sum, h) => sum + toMilli(h.payout) - toMilli(h.bet), 0))
