@@ -35,7 +35,10 @@ export class AutoBet {
     this.refs = new Set()
     /** @type {Set<number>} ids of the drops this run sent (as the server announced them) */
     this.dropIds = new Set()
-    /** @type {{ bet: number, payout: number, win: boolean, betBefore: number, betAfter: number, profit: number }[]} each settled result, in order */
+    /**
+     * Each settled result, in order; `whileRunning`: the run was still sending (a result after it stopped, of a ball still in flight, stops nothing).
+     * @type {{ bet: number, payout: number, win: boolean, betBefore: number, betAfter: number, profit: number, whileRunning: boolean }[]}
+     */
     this.log = []
   }
 
@@ -79,7 +82,7 @@ export class AutoBet {
     const rule = payout > bet ? this.rules.onWin : this.rules.onLoss
     const before = this.bet
     this.bet = rule.mode === 'increase' ? Math.round(this.bet * (1 + rule.percent / 100)) : this.rules.baseBet
-    this.log.push({ bet, payout, win: payout > bet, betBefore: before, betAfter: this.bet, profit: this.profit })
+    this.log.push({ bet, payout, win: payout > bet, betBefore: before, betAfter: this.bet, profit: this.profit, whileRunning: this.stopReason === null })
     // Only a running run stops on its limits (one that finished sending just settles its last balls).
     if (this.stopReason !== null) return null
     if (this.rules.stopProfit !== null && this.profitMilli >= toMilli(this.rules.stopProfit)) this.stopReason = 'profit'

@@ -150,13 +150,16 @@ describe('player page features', () => {
       bet = entry.win ? 10 : Math.round(bet * 2)
       expect(entry.betAfter).toBe(bet)
     }
+    // Only results that came while the run was still sending can stop it (balls still falling after it stopped settle, and stop nothing).
     if (run.stopReason === 'loss') {
-      const stopAt = run.log.findIndex((e) => -e.profit >= 200)
+      const stopAt = run.log.findIndex((e) => e.whileRunning && -e.profit >= 200)
       expect(stopAt).toBeGreaterThanOrEqual(0)
+      expect(run.log.slice(stopAt + 1).some((e) => e.whileRunning)).toBe(false)
       expect(await page.textContent('#auto-status')).toContain('stop on loss')
     } else {
       expect(run.stopReason).toBe('done')
-      expect(run.log.every((e) => -e.profit < 200)).toBe(true)
+      expect(run.sent).toBe(40)
+      expect(run.log.filter((e) => e.whileRunning).every((e) => -e.profit < 200)).toBe(true)
     }
     // The bets the server took are those the rules gave (the first is the base bet; later ones follow results).
     const bets = (await page.evaluate(() => window.__plinko.history)).map((h) => h.bet)
