@@ -5,9 +5,10 @@
  * The k6 players against the clustered topology: a throwaway PostgreSQL
  * (initdb/pg_ctl on PATH) and Redis, `npm run cluster -- --workers N` on a
  * free port, and `npm run loadtest` aimed at its proxy (TARGET_URL). The
- * proxy hands WebSockets to the processes round robin, so about half the
- * joins reach a process that does not run the room: the players must follow
- * E_WRONG_NODE to the owner (any error fails k6's thresholds). Afterwards
+ * proxy hands each WebSocket to the process with the fewest connections,
+ * whatever room it asks for, so many joins reach a process that does not
+ * run the room: the players must follow E_WRONG_NODE to the owner (any
+ * error fails k6's thresholds). Afterwards
  * the shared ledger is checked: every drop settled, every balance equal to
  * start − bets + payouts. Exits non-zero on any failure. Loopback only;
  * bounded by the scenario's own duration.
@@ -18,8 +19,7 @@ import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import { startPostgres } from '../tools/postgres-process.js'
 import { query, ledgerMismatches } from '../tools/ledger-checks.js'
-import { freePortRun } from '../tools/free-port.js'
-import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
+import { startClusterProcess } from '../tools/cluster-process.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const STARTING_BALANCE = 100000
@@ -37,33 +37,16 @@ const postgres = await startPostgres()
 let cluster = null
 for (const signal of ['SIGINT', 'SIGTERM']) {
   process.once(signal, () => {
-    try { if (cluster) process.kill(-cluster.pid, 'SIGKILL') } catch {}
+    cluster?.kill()
     postgres.stop().finally(() => process.exit(130))
   })
 }
 let exitCode = 1
 try {
   const databaseUrl = await postgres.createDatabase()
-  // The proxy on PORT, worker i on PORT + 1 + i.
-  const port = await freePortRun(Number(values.workers) + 1)
-  const base = `http://127.0.0.1:${port}`
-  // Its own process group, so that the whole cluster (proxy and workers) can be stopped at once.
-  cluster = spawn(process.execPath, [path.join(ROOT, 'scripts/cluster.js'), '--workers', values.workers, '--port', String(port)], {
-    cwd: ROOT,
-    detached: true,
-    stdio: ['ignore', 'inherit', 'inherit'],
-    env: {
-      ...process.env,
-      DATABASE_URL: databaseUrl,
-      LOG_LEVEL: 'warn',
-      STARTING_BALANCE: String(STARTING_BALANCE),
-      // Every virtual player comes from 127.0.0.1.
-      ...LIFTED_LIMITS
-    }
-  })
-  await waitForWorkers(base, Number(values.workers))
+  cluster = await startClusterProcess({ workers: Number(values.workers), env: { DATABASE_URL: databaseUrl, STARTING_BALANCE: String(STARTING_BALANCE) } })
   const k6 = spawn(process.execPath, [path.join(ROOT, 'loadtest/run.js'), '--scenario', 'players', '--vus', values.vus, '--duration', values.duration,
-    '--rooms', values.rooms, '--ramp', '5s', '--env', 'BREAKDOWN=1'], { cwd: ROOT, stdio: 'inherit', env: { ...process.env, TARGET_URL: base } })
+    '--rooms', values.rooms, '--ramp', '5s', '--env', 'BREAKDOWN=1'], { cwd: ROOT, stdio: 'inherit', env: { ...process.env, TARGET_URL: cluster.url } })
   const k6Code = await new Promise((resolve) => k6.once('exit', (code) => resolve(code ?? 1)))
   const ledger = await checkLedger(databaseUrl)
   console.log(`cluster smoke: ${ledger.drops} drops in the shared ledger, ${ledger.unsettled} unsettled, ${ledger.mismatches} balance mismatches; k6 exit ${k6Code}`)
@@ -71,34 +54,10 @@ try {
 } catch (error) {
   console.error(`cluster smoke: ${error.stack ?? error.message}`)
 } finally {
-  await stopCluster()
+  if (cluster && !await cluster.stop(STOP_TIMEOUT_MS)) console.error(`cluster smoke: the cluster did not stop within ${STOP_TIMEOUT_MS} ms; killed it`)
   await postgres.stop()
 }
 process.exit(exitCode)
-
-/** SIGTERM (graceful: balls settle, leases go back), then, past STOP_TIMEOUT_MS, SIGKILL to the whole group. */
-async function stopCluster () {
-  if (!cluster || cluster.exitCode !== null || cluster.signalCode !== null) return
-  const exited = new Promise((resolve) => cluster.once('exit', () => resolve(true)))
-  cluster.kill('SIGTERM')
-  if (await Promise.race([exited, new Promise((resolve) => setTimeout(() => resolve(false), STOP_TIMEOUT_MS))])) return
-  console.error(`cluster smoke: the cluster did not stop within ${STOP_TIMEOUT_MS} ms; killing it`)
-  try { process.kill(-cluster.pid, 'SIGKILL') } catch {}
-}
-
-/** Every worker answers through the proxy's /n/{i} path. */
-async function waitForWorkers (base, count) {
-  const deadline = Date.now() + 60_000
-  for (let i = 0; i < count; i++) {
-    for (;;) {
-      try {
-        if ((await fetch(`${base}/n/${i}/api/health`)).ok) break
-      } catch {}
-      if (Date.now() > deadline) throw new Error(`worker ${i} did not start`)
-      await new Promise((resolve) => setTimeout(resolve, 100))
-    }
-  }
-}
 
 async function checkLedger (url) {
   const [counts] = await query(url, "SELECT count(*) AS drops, count(*) FILTER (WHERE status <> 'settled') AS unsettled FROM drops")

@@ -109,7 +109,7 @@ export function stepFigures (ours, floor) {
     dropsSettled: s.dropsSettled,
     unsettled: s.unsettled,
     errors: s.errorCount,
-    serverErrors: Object.values(a?.serverErrors ?? {}).reduce((total, count) => total + count, 0),
+    serverErrors: serverErrorCount(a),
     framesPerSecondPerPlayer: s.window.framesPerSecondPerPlayer,
     bytesPerSecondPerPlayer: s.window.bytesPerSecondPerPlayer,
     rssPerClient: a?.memory?.rssPerClient ?? null,
@@ -122,8 +122,22 @@ export function stepFigures (ours, floor) {
   return step
 }
 
-const f = (value, digits = 1) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
-const pct = (share) => share === null || share === undefined ? '–' : `${f(share * 100, 0)}%`
+/** A figure for the tables: thousands grouped, `digits` decimals, – when there is none. @param {number | null | undefined} value @param {number} [digits] */
+export const f = (value, digits = 1) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
+/** A share of a core as a whole percentage. @param {number | null | undefined} share */
+export const pct = (share) => share === null || share === undefined ? '–' : `${f(share * 100, 0)}%`
+
+/**
+ * The error replies a server process counted (plinko_errors_total, from
+ * run-analysis.js), but for E_WRONG_NODE: a clustered join sent to the
+ * room's process, which the generator followed and counts as a redirect.
+ * @param {{ serverErrors?: Record<string, number> } | null | undefined} analysis
+ */
+export function serverErrorCount (analysis) {
+  let total = 0
+  for (const [code, count] of Object.entries(analysis?.serverErrors ?? {})) if (code !== 'E_WRONG_NODE') total += count
+  return total
+}
 
 /** The markdown table of the steps, and the verdict. @param {ReturnType<typeof stepFigures>[]} steps @param {object} options */
 export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new Date() }) {

@@ -23,7 +23,6 @@
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { spawn } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
 import { parseCommandLine } from '../../cli/command-line.js'
 import { optionsOrExit } from '../../cli/usage-error.js'
@@ -32,20 +31,17 @@ import { startServer } from '../driver/server-process.js'
 import { MetricsSampler, readProcStat } from '../driver/metrics-sampler.js'
 import { analyzeServerSamples } from '../driver/run-analysis.js'
 import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
-import { CRITERIA, STEP_OPTIONS, writeBetweenMarkers } from './capacity.js'
+import { CRITERIA, STEP_OPTIONS, f, pct, serverErrorCount, writeBetweenMarkers } from './capacity.js'
 import { startPostgres } from '../../tools/postgres-process.js'
 import { startRedis } from '../../tools/redis-process.js'
-import { LIFTED_LIMITS } from '../../tools/lifted-limits.js'
-import { freePortRun } from '../../tools/free-port.js'
+import { startClusterProcess } from '../../tools/cluster-process.js'
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..', '..')
 const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
 export const CLUSTER_SECTION = Object.freeze({
   begin: '<!-- cluster-capacity:begin (written by npm run loadtest:cluster-capacity) -->',
   end: '<!-- cluster-capacity:end -->',
   heading: 'Two processes (npm run loadtest:cluster-capacity)'
 })
-const CLUSTER_SCRIPT = path.join(ROOT, 'scripts/cluster.js')
 const OPERATOR_TOKEN = 'operator-token-for-cluster-capacity-0123'
 
 export const USAGE = `usage: npm run loadtest:cluster-capacity -- [options]
@@ -92,40 +88,22 @@ async function startOne (databaseUrl, dir) {
   return { url: server.url, processes: [server.url], proxyPid: null, pids: () => [server.pid], stop: () => server.stop() }
 }
 
-/** `npm run cluster -- --workers 2` (scripts/cluster.js) on PostgreSQL and Redis. */
+/** `npm run cluster -- --workers 2` (scripts/cluster.js) on PostgreSQL and Redis, its output in `dir`/cluster.log. */
 async function startTwo (databaseUrl, redisUrl, dir) {
-  const port = await freePortRun(3)
   const log = fs.openSync(path.join(dir, 'cluster.log'), 'a')
-  const child = spawn(process.execPath, [CLUSTER_SCRIPT, '--workers', '2', '--port', String(port)], {
-    cwd: ROOT,
-    env: { ...process.env, DATABASE_URL: databaseUrl, REDIS_URL: redisUrl, LOG_LEVEL: 'warn', OPERATOR_TOKEN, CLIENT_DIR: '/nonexistent/plinko-client', ...LIFTED_LIMITS },
-    stdio: ['ignore', log, log]
-  })
-  fs.closeSync(log)
-  const exited = new Promise((resolve) => child.once('exit', resolve))
-  const url = `http://127.0.0.1:${port}`
-  const processes = [0, 1].map((i) => `${url}/n/${i}`)
-  const deadline = Date.now() + 60_000
-  for (const process of processes) {
-    for (;;) {
-      if (child.exitCode !== null) throw new Error(`npm run cluster exited during start-up; see ${path.join(dir, 'cluster.log')}`)
-      if ((await fetch(`${process}/api/health`).catch(() => null))?.ok) break
-      if (Date.now() > deadline) throw new Error('npm run cluster did not start within 60 s')
-      await new Promise((resolve) => setTimeout(resolve, 100))
-    }
+  let cluster
+  try {
+    cluster = await startClusterProcess({ workers: 2, env: { DATABASE_URL: databaseUrl, REDIS_URL: redisUrl, OPERATOR_TOKEN, CLIENT_DIR: '/nonexistent/plinko-client' }, stdio: ['ignore', log, log] })
+  } finally {
+    fs.closeSync(log)
   }
   return {
-    url,
-    processes,
+    url: cluster.url,
+    processes: cluster.processes,
     // scripts/cluster.js itself is the proxy; its children are the workers.
-    proxyPid: child.pid,
-    pids: () => processTree(child.pid),
-    async stop () {
-      child.kill('SIGTERM')
-      const timer = setTimeout(() => child.kill('SIGKILL'), 60_000)
-      await exited
-      clearTimeout(timer)
-    }
+    proxyPid: cluster.child.pid,
+    pids: () => processTree(cluster.child.pid),
+    stop: () => cluster.stop(60_000)
   }
 }
 
@@ -196,8 +174,7 @@ export function clusterStepFigures ({ players, analyses, summary, serverShare, p
     unsettled: summary.unsettled,
     redirects: summary.redirects,
     errors: summary.errorCount,
-    // A join answered E_WRONG_NODE is a redirect the generator followed (and counted), not an error.
-    serverErrors: analyses.reduce((total, a) => total + Object.entries(a.serverErrors ?? {}).reduce((sum, [code, count]) => code === 'E_WRONG_NODE' ? sum : sum + count, 0), 0),
+    serverErrors: analyses.reduce((total, a) => total + serverErrorCount(a), 0),
     summary
   }
   step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
@@ -205,15 +182,13 @@ export function clusterStepFigures ({ players, analyses, summary, serverShare, p
   return step
 }
 
-const f = (value, digits = 0) => value === null || value === undefined || Number.isNaN(value) ? '–' : Number(value).toLocaleString('en-US', { minimumFractionDigits: digits, maximumFractionDigits: digits })
-const pct = (share) => share === null || share === undefined ? '–' : `${f(share * 100)}%`
 
 /** The table of both modes' steps and the verdict. */
 export function clusterCapacityMarkdown (modes, { rooms, durationS, cpus, date = new Date() }) {
   const held = (steps) => Math.max(0, ...steps.filter((step) => step.holds).map((step) => step.players))
   const [one, two] = modes.map((mode) => held(mode.steps))
   const header = '| processes | players | server CPU (processes + proxy) | of which the proxy | generator CPU | tick p99 (worst) | lag p99 (worst) | drop → dropped p50 / p99 | drop → settled p99 | redirects | errors, unsettled | verdict |'
-  const rows = modes.flatMap((mode) => mode.steps.map((step) => `| ${mode.label} | ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${step.proxyShare === null ? '–' : pct(step.proxyShare)} | ${pct(step.generatorShare)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms)} / ${f(step.ackP99Ms)} ms | ${f(step.settledP99Ms)} ms | ${step.redirects} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`))
+  const rows = modes.flatMap((mode) => mode.steps.map((step) => `| ${mode.label} | ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${step.proxyShare === null ? '–' : pct(step.proxyShare)} | ${pct(step.generatorShare)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP99Ms, 0)} ms | ${step.redirects} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`))
   return [
     `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${cpus} CPUs shared by everything (not pinned), PostgreSQL ledger, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step.`,
     '',
@@ -240,7 +215,7 @@ async function main () {
       for (const players of options.steps) {
         const step = await measureStep(mode.start, { players, ...options })
         mode.steps.push(step)
-        console.log(`${mode.label} process${mode.label === '1' ? '' : 'es'}, ${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)}${step.proxyShare === null ? '' : ` (proxy ${pct(step.proxyShare)})`}, generator ${pct(step.generatorShare)}; tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms)} ms; ${step.redirects} redirects`)
+        console.log(`${mode.label} process${mode.label === '1' ? '' : 'es'}, ${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)}${step.proxyShare === null ? '' : ` (proxy ${pct(step.proxyShare)})`}, generator ${pct(step.generatorShare)}; tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms; ${step.redirects} redirects`)
         if (!step.summary.passed) console.log(formatLeanSummary(step.summary))
         if (!step.holds) break
       }

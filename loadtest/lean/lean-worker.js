@@ -33,6 +33,18 @@ export function threadCpuSeconds () {
 }
 
 /**
+ * Where a process's WebSocket is, from its base URL (http:// or ws://): host,
+ * port and the path in front of /ws (a process behind the cluster's proxy
+ * is under /n/{i}).
+ * @param {string} baseUrl
+ * @returns {{ host: string, port: number, prefix: string }}
+ */
+export function socketTarget (baseUrl) {
+  const url = new URL(baseUrl)
+  return { host: url.hostname.replace(/^\[|\]$/g, ''), port: Number(url.port || 80), prefix: url.pathname.replace(/\/+$/, '') }
+}
+
+/**
  * @typedef {object} WorkerPlan
  * @property {string} baseUrl http://127.0.0.1:PORT (checked loopback by the main thread)
  * @property {{ room: string, connectAt: number, leaveAt: number }[]} players epoch ms
@@ -42,11 +54,7 @@ export function threadCpuSeconds () {
 
 /** @param {WorkerPlan} plan @param {(result: object, transfer: ArrayBuffer[]) => void} done */
 export function playWorkerPlan (plan, done) {
-  const url = new URL(plan.baseUrl)
-  const host = url.hostname.replace(/^\[|\]$/g, '')
-  const port = Number(url.port || 80)
-  // A base URL with a path (a process behind the cluster's proxy, /n/1) keeps it.
-  const basePrefix = url.pathname.replace(/\/+$/, '')
+  const entry = socketTarget(plan.baseUrl)
   const stats = new PlayerStats()
   const window = {}
   let remaining = plan.players.length
@@ -157,12 +165,11 @@ export function playWorkerPlan (plan, done) {
     /** Leaves this socket (nothing was dropped on it) and joins again at the room's process. @param {string} socketUrl */
     function moveTo (socketUrl) {
       const previous = socket
-      const owner = new URL(socketUrl)
-      open({ host: owner.hostname.replace(/^\[|\]$/g, ''), port: Number(owner.port || 80), prefix: owner.pathname.replace(/\/ws$/, '') })
+      open(socketTarget(socketUrl.replace(/\/ws$/, '')))
       previous.close(1000)
     }
 
-    open({ host, port, prefix: basePrefix })
+    open(entry)
 
     const close = () => {
       closedByUs = true
