@@ -120,8 +120,9 @@ export class MetricsSampler {
 }
 
 /**
- * CPU seconds (user + system) and resident memory of a process, or null
- * when it is gone or /proc is not there.
+ * CPU seconds (user + system, and the system part alone: time in the
+ * kernel) and resident memory of a process, or null when it is gone or
+ * /proc is not there.
  * @param {number} pid
  */
 export function readProcStat (pid) {
@@ -132,7 +133,7 @@ export function readProcStat (pid) {
     const utime = Number(fields[11])
     const stime = Number(fields[12])
     const rssPages = Number(fields[21])
-    return { cpuS: (utime + stime) / CLOCK_TICKS_PER_SECOND, rss: rssPages * 4096 }
+    return { cpuS: (utime + stime) / CLOCK_TICKS_PER_SECOND, kernelS: stime / CLOCK_TICKS_PER_SECOND, rss: rssPages * 4096 }
   } catch {
     return null
   }

@@ -84,7 +84,9 @@ export async function startFloorServer ({ cpus, frameBytes = 190, intervalMs = 5
  * The floor: `clients` raw sockets on the bare server for `seconds` after a warm-up.
  * @param {{ clients: number, seconds: number, pin: boolean }} options
  * @returns {Promise<{ clients: number, connected: number, seconds: number, frames: number, framesPerSecond: number,
- *   serverCpuS: number, serverShare: number, serverUsPerFrame: number, clientCpuS: number, clientUsPerFrame: number, othersShare: number | null }>}
+ *   serverCpuS: number, serverShare: number, serverUsPerFrame: number, serverKernelUsPerFrame: number,
+ *   clientCpuS: number, clientUsPerFrame: number, clientKernelUsPerFrame: number, othersShare: number | null }>}
+ *   …KernelUsPerFrame: the part of …UsPerFrame spent in the kernel (system time)
  */
 export async function measureFloor ({ clients, seconds, pin }) {
   const server = await startFloorServer({ cpus: pin ? '0' : undefined })
@@ -124,8 +126,10 @@ export async function measureFloor ({ clients, seconds, pin }) {
       serverCpuS,
       serverShare: serverCpuS / windowS,
       serverUsPerFrame: serverCpuS * 1e6 / received,
+      serverKernelUsPerFrame: (to.server.kernelS - from.server.kernelS) * 1e6 / received,
       clientCpuS,
       clientUsPerFrame: clientCpuS * 1e6 / received,
+      clientKernelUsPerFrame: to.client.system / received,
       othersShare: others === null ? null : others / windowS
     }
   } finally {
@@ -176,6 +180,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
       serverCpuS,
       serverShare: serverCpuS / windowS,
       serverUsPerFrame: serverCpuS * 1e6 / summary.window.received,
+      serverKernelUsPerFrame: (to.server.kernelS - from.server.kernelS) * 1e6 / summary.window.received,
       serverRss: to.server.rss,
       othersShare: others === null ? null : others / windowS
     }

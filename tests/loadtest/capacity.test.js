@@ -107,5 +107,10 @@ describe('the WebSocket floor', () => {
     expect(floor.frames).toBeLessThanOrEqual(20 * 20 * floor.seconds * 1.5)
     expect(floor.serverCpuS).toBeGreaterThanOrEqual(0)
     expect(floor.serverUsPerFrame).toBeGreaterThanOrEqual(0)
+    // The kernel's part is a part: never negative, never more than the whole.
+    expect(floor.serverKernelUsPerFrame).toBeGreaterThanOrEqual(0)
+    expect(floor.serverKernelUsPerFrame).toBeLessThanOrEqual(floor.serverUsPerFrame)
+    expect(floor.clientKernelUsPerFrame).toBeGreaterThanOrEqual(0)
+    expect(floor.clientKernelUsPerFrame).toBeLessThanOrEqual(floor.clientUsPerFrame)
   })
 })
