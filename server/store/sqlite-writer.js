@@ -1,6 +1,15 @@
 import { Worker } from 'node:worker_threads'
 
 /**
+ * The writer thread's nice value: below the event loop's 0, so that where
+ * both want the same core the ticks go first (a commit waits a little; at
+ * the most players one core holds, see loadtest/RESULTS.md). Not so low
+ * that it starves: at 19 the commits fell behind and merged into batches
+ * large enough to delay the acks (drop → dropped p99 0.55 s).
+ */
+export const WRITER_THREAD_NICE = 10
+
+/**
  * Runs the ledger's writes (sqlite-writes.js: the tick's batches, new
  * players, seed rotations) on a worker thread with its own SQLite
  * connection, so the event loop never waits for a commit's fsync (it did: up
@@ -8,7 +17,8 @@ import { Worker } from 'node:worker_threads'
  * lock another process holds (a session once froze every room for the 5 s
  * busy timeout). Writes run one at a time in the order they are sent, and
  * each promise settles only once its transaction is durable, or rolled back
- * with the error (its `code` is SQLite's, e.g. SQLITE_BUSY).
+ * with the error (its `code` is SQLite's, e.g. SQLITE_BUSY). The thread
+ * runs at WRITER_THREAD_NICE.
  */
 export class SqliteWriter {
   /** @param {string} file the database file (not ':memory:') @param {{ busyTimeoutMs?: number }} [options] */
@@ -40,7 +50,7 @@ export class SqliteWriter {
   }
 
   _start () {
-    const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { file: this.file, busyTimeoutMs: this.busyTimeoutMs } })
+    const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { file: this.file, busyTimeoutMs: this.busyTimeoutMs, nice: WRITER_THREAD_NICE } })
     worker.on('message', ({ id, result, error, code }) => {
       const waiter = this.pending.get(id)
       if (!waiter) return

@@ -4,6 +4,13 @@ import os from 'node:os'
 import path from 'node:path'
 import Database from 'better-sqlite3'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
+import { WRITER_THREAD_NICE } from '../../server/store/sqlite-writer.js'
+
+/** Nice value of every thread of this process, by thread id (Linux /proc). */
+const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
+  const stat = fs.readFileSync(`/proc/self/task/${tid}/stat`, 'utf8')
+  return [Number(tid), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[16])]
+}))
 
 /**
  * The SQLite store commits the tick's batches on a writer thread with its
@@ -39,6 +46,16 @@ describe('SQLite writer thread', () => {
     expect(read("SELECT balance FROM players WHERE id = 'p1'")).toEqual([{ balance: 980 }])
     // The store's own connection reads what the thread wrote.
     expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([1, 2])
+  })
+
+  it.runIf(fs.existsSync('/proc/thread-self'))('runs below the event loop\'s priority, and only that thread does', async () => {
+    const thisThread = Number(fs.readlinkSync('/proc/thread-self').split('/').pop())
+    const before = threadNices().get(thisThread)
+    await store.commitBatch(batch([drop(1)]))
+    const nices = threadNices()
+    expect([...nices.values()].filter((nice) => nice === WRITER_THREAD_NICE)).toHaveLength(1)
+    expect(nices.get(thisThread)).toBe(before)
+    expect(before).not.toBe(WRITER_THREAD_NICE)
   })
 
   it('rejects a failing batch with its error and leaves none of it written', async () => {
