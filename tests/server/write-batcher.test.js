@@ -1,7 +1,15 @@
 import { once } from 'node:events'
 import { describe, it, expect, afterEach } from 'vitest'
 import WebSocket, { WebSocketServer } from 'ws'
-import { holdWritesUntilEndOfTurn } from '../../server/realtime/write-batcher.js'
+import { holdWritesUntilEndOfTurn, FLUSH_CHUNK } from '../../server/realtime/write-batcher.js'
+
+/** A stand-in for a ws WebSocket whose TCP socket logs its uncork. */
+function fakeWebSocket (id, log) {
+  const raw = { writableCorked: 0, destroyed: false, cork () { this.writableCorked++ }, uncork () { this.writableCorked--; log.push(id) } }
+  return { _socket: raw }
+}
+
+const nextTurn = () => new Promise((resolve) => setImmediate(resolve))
 
 describe('write batcher', () => {
   let server
@@ -41,6 +49,30 @@ describe('write batcher', () => {
     await new Promise((resolve) => { const poll = () => (received.length === 4 ? resolve() : setTimeout(poll, 5)); poll() })
     expect(received).toEqual(['a', 'b', [1, 2, 3], 'c'])
     client.close()
+  })
+
+  it('writes at most FLUSH_CHUNK sockets per turn, the rest in the next turns, oldest first', async () => {
+    const log = []
+    const sockets = Array.from({ length: 2 * FLUSH_CHUNK + 5 }, (_, id) => fakeWebSocket(id, log))
+    for (const socket of sockets) holdWritesUntilEndOfTurn(socket)
+    holdWritesUntilEndOfTurn(sockets[0]) // already corked: not listed twice
+    expect(sockets.every((socket) => socket._socket.writableCorked === 1)).toBe(true)
+
+    await nextTurn()
+    expect(log).toEqual(sockets.slice(0, FLUSH_CHUNK).map((_, id) => id))
+    // A socket still waiting for its chunk is not corked again; one already written is, behind the others.
+    holdWritesUntilEndOfTurn(sockets[FLUSH_CHUNK + 1])
+    holdWritesUntilEndOfTurn(sockets[0])
+    await nextTurn()
+    expect(log.length).toBe(2 * FLUSH_CHUNK)
+    await nextTurn()
+    expect(log).toEqual([...sockets.map((_, id) => id), 0])
+    expect(sockets.every((socket) => socket._socket.writableCorked === 0)).toBe(true)
+
+    // Drained: the next cork is written at the end of its own turn.
+    holdWritesUntilEndOfTurn(sockets[7])
+    await nextTurn()
+    expect(log.at(-1)).toBe(7)
   })
 
   it('leaves a closed socket alone', () => {
