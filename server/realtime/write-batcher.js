@@ -21,10 +21,13 @@
 /** Sockets written per turn of the event loop (at ~10 µs each, a few ms). */
 export const FLUSH_CHUNK = 256
 
-/** @type {import('node:net').Socket[]} corked sockets, oldest first; those before `next` are written */
+/**
+ * Corked sockets, oldest first; those before `next` are written. A flush is
+ * scheduled exactly while the list is not empty.
+ * @type {import('node:net').Socket[]}
+ */
 const corked = []
 let next = 0
-let flushScheduled = false
 
 /**
  * Corks the TCP socket under a `ws` WebSocket until it is its turn to be
@@ -35,11 +38,7 @@ export function holdWritesUntilEndOfTurn (socket) {
   const raw = socket._socket
   if (!raw || raw.writableCorked > 0 || raw.destroyed) return
   raw.cork()
-  corked.push(raw)
-  if (!flushScheduled) {
-    flushScheduled = true
-    setImmediate(flushWrites)
-  }
+  if (corked.push(raw) === 1) setImmediate(flushWrites)
 }
 
 function flushWrites () {
@@ -58,5 +57,4 @@ function flushWrites () {
   }
   corked.length = 0
   next = 0
-  flushScheduled = false
 }
