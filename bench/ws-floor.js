@@ -20,8 +20,9 @@
  * Printed side by side: both µs per frame and their ratio (goal ≤ 1.5×),
  * and the generator's own µs per frame beside the bare clients' (the
  * floor of a reader on this kernel); each with the part of it spent in
- * the kernel (system time), and what the ratio goal leaves for the rest. Without taskset (or with one CPU) the
- * processes are not pinned and the figures say so. The machine may be
+ * the kernel (system time), and what the ratio goal leaves for the rest.
+ * Without taskset (or with one CPU) the processes are not pinned and the
+ * figures say so. The machine may be
  * shared: the other processes' CPU over each window is printed too.
  * Exit code 0 whatever the figures; 1 when a run's checks fail.
  */
@@ -58,42 +59,38 @@ async function main () {
   const pin = canPin() && pinSelf('1')
   console.log(`WebSocket floor vs our server: ${players} clients / players, ${seconds} s windows, ${repeat} run${repeat > 1 ? 's' : ''}; ${pin ? 'server on CPU 0, clients and generator on CPU 1 (taskset)' : 'NOT pinned (no taskset or one CPU): the figures share cores'}`)
   const rows = []
-  const ratios = []
-  const floors = []
-  const ours = []
-  const generators = []
-  const readers = []
-  const floorKernels = []
-  const ourKernels = []
-  const readerKernels = []
-  const generatorKernels = []
+  /** One entry per run: µs per frame of each side, whole and in the kernel. */
+  const runs = []
   for (let run = 1; run <= repeat; run++) {
     const floor = await measureFloor({ clients: players, seconds, pin })
     const our = await measureOurs({ players, durationS: seconds + 3, rampS: quick ? 3 : 10, pin })
-    const ratio = our.serverUsPerFrame / floor.serverUsPerFrame
-    floors.push(floor.serverUsPerFrame)
-    ours.push(our.serverUsPerFrame)
-    ratios.push(ratio)
-    generators.push(our.summary.cpu.usPerFrame)
-    readers.push(floor.clientUsPerFrame)
-    const generatorKernel = our.summary.cpu.usPerFrame - our.summary.cpu.userUsPerFrame
-    floorKernels.push(floor.serverKernelUsPerFrame)
-    ourKernels.push(our.serverKernelUsPerFrame)
-    readerKernels.push(floor.clientKernelUsPerFrame)
-    generatorKernels.push(generatorKernel)
-    rows.push([`${run}: floor (bare ws, 190 B every 50 ms)`, fixed(floor.framesPerSecond, 0), pct(floor.serverShare), fixed(floor.serverUsPerFrame, 2), fixed(floor.serverKernelUsPerFrame, 2), '1.00×', `${fixed(floor.clientUsPerFrame, 2)} (${fixed(floor.clientKernelUsPerFrame, 2)} kernel), bare reader`, pct(floor.othersShare)])
-    rows.push([`${run}: ours (${players} players, 100 rooms, 1 drop / 2 s)`, fixed(our.framesPerSecond, 0), pct(our.serverShare), fixed(our.serverUsPerFrame, 2), fixed(our.serverKernelUsPerFrame, 2), `${fixed(ratio, 2)}×`, `${fixed(our.summary.cpu.usPerFrame, 2)} (${fixed(generatorKernel, 2)} kernel), lean generator`, pct(our.othersShare)])
+    const figures = {
+      floor: floor.serverUsPerFrame,
+      floorKernel: floor.serverKernelUsPerFrame,
+      ours: our.serverUsPerFrame,
+      oursKernel: our.serverKernelUsPerFrame,
+      ratio: our.serverUsPerFrame / floor.serverUsPerFrame,
+      reader: floor.clientUsPerFrame,
+      readerKernel: floor.clientKernelUsPerFrame,
+      generator: our.summary.cpu.usPerFrame,
+      generatorKernel: our.summary.cpu.usPerFrame - our.summary.cpu.userUsPerFrame
+    }
+    runs.push(figures)
+    rows.push([`${run}: floor (bare ws, 190 B every 50 ms)`, fixed(floor.framesPerSecond, 0), pct(floor.serverShare), fixed(figures.floor, 2), fixed(figures.floorKernel, 2), '1.00×', `${fixed(figures.reader, 2)} (${fixed(figures.readerKernel, 2)} kernel), bare reader`, pct(floor.othersShare)])
+    rows.push([`${run}: ours (${players} players, 100 rooms, 1 drop / 2 s)`, fixed(our.framesPerSecond, 0), pct(our.serverShare), fixed(figures.ours, 2), fixed(figures.oursKernel, 2), `${fixed(figures.ratio, 2)}×`, `${fixed(figures.generator, 2)} (${fixed(figures.generatorKernel, 2)} kernel), lean generator`, pct(our.othersShare)])
     if (!our.summary.passed) {
       console.log(formatLeanSummary(our.summary))
       process.exitCode = 1
     }
   }
+  const all = (read) => spread(runs.map(read))
+  const worst = (read) => Math.max(...runs.map(read))
   const columns = ['run: what', 'frames/s', 'server CPU', 'server µs/frame', 'of which kernel', 'vs floor', 'client µs/frame', 'other processes'].map((title, i) => ({ title, align: i === 0 || i === 6 ? 'left' : 'right' }))
   console.log(formatTable(columns, rows))
-  console.log(`server µs per frame: floor ${spread(floors)}, ours ${spread(ours)}; ours / floor = ${spread(ratios)}× (goal ≤ ${GOAL_RATIO}×: ${Math.max(...ratios) <= GOAL_RATIO ? 'met' : 'not met'})`)
-  console.log(`  of which in the kernel: floor ${spread(floorKernels)}, ours ${spread(ourKernels)}; the goal leaves ours ${spread(floors.map((floor, i) => GOAL_RATIO * floor - ourKernels[i]))} µs per frame of user time (the floor's own user time: ${spread(floors.map((floor, i) => floor - floorKernels[i]))})`)
-  console.log(`client µs per frame received: bare reader ${spread(readers)}, lean generator ${spread(generators)} (goal ≤ 5 µs: ${Math.max(...generators) <= 5 ? 'met' : 'not met'})`)
-  console.log(`  of which in the kernel: bare reader ${spread(readerKernels)}, lean generator ${spread(generatorKernels)}`)
+  console.log(`server µs per frame: floor ${all((r) => r.floor)}, ours ${all((r) => r.ours)}; ours / floor = ${all((r) => r.ratio)}× (goal ≤ ${GOAL_RATIO}×: ${worst((r) => r.ratio) <= GOAL_RATIO ? 'met' : 'not met'})`)
+  console.log(`  of which in the kernel: floor ${all((r) => r.floorKernel)}, ours ${all((r) => r.oursKernel)}; the goal leaves ours ${all((r) => GOAL_RATIO * r.floor - r.oursKernel)} µs per frame of user time (the floor's own user time: ${all((r) => r.floor - r.floorKernel)})`)
+  console.log(`client µs per frame received: bare reader ${all((r) => r.reader)}, lean generator ${all((r) => r.generator)} (goal ≤ 5 µs: ${worst((r) => r.generator) <= 5 ? 'met' : 'not met'})`)
+  console.log(`  of which in the kernel: bare reader ${all((r) => r.readerKernel)}, lean generator ${all((r) => r.generatorKernel)}`)
 }
 
 if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) await main()
