@@ -53,7 +53,6 @@ export const USAGE = `usage: npm run loadtest:cluster-capacity -- [options]
   --no-results     print only; do not write loadtest/RESULTS.md
   -h, --help`
 
-
 /** @param {string[]} argv */
 export function parseClusterCapacityArgs (argv) {
   const values = parseCommandLine(argv, STEP_OPTIONS, { repeated: 'last' })
@@ -181,7 +180,6 @@ export function clusterStepFigures ({ players, analyses, summary, serverShare, p
   step.holds = step.failed.length === 0
   return step
 }
-
 
 /** The table of both modes' steps and the verdict. */
 export function clusterCapacityMarkdown (modes, { rooms, durationS, cpus, date = new Date() }) {
