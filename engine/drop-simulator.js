@@ -37,6 +37,9 @@ export class DropSimulator {
     this._keys = []
     this._ticks = new Int32Array(64).fill(-1)
     this._inFlight = 0
+    // The version's tick cap: a ball still in play after this many ticks
+    // lands where it is, so a wedged ball can never hang a replay.
+    this._maxTicks = board.maxDropTicks
     /** @type {LandedDrop[]} drops that landed in the last step, in body-id order */
     this.landed = []
   }

@@ -81,3 +81,34 @@ describe('DropSimulator (a room)', () => {
     }
   })
 })
+
+describe('the tick cap (board.maxDropTicks)', () => {
+  it('lands a ball still in play after maxDropTicks where it is, in room and alone', () => {
+    const board = createBoard({ rows: 16, risk: 'high' })
+    const capped = { ...board, maxDropTicks: 12 }
+    for (let n = 0; n < 10; n++) {
+      const full = simulateDrop(board, seed(n), { trajectory: true })
+      expect(full.ticks).toBeGreaterThan(12)
+      const early = simulateDrop(capped, seed(n))
+      expect(early.ticks).toBe(12)
+      // Landed where the uncapped ball was after 12 ticks.
+      const x = full.trajectory[12 * 3]
+      expect(early.bucket).toBe(Math.max(0, Math.min(board.multipliers.length - 1, Math.floor((x - board.bucketLeftX) / board.bucketWidth))))
+    }
+    const room = new DropSimulator(capped)
+    room.addDrop(seed(1), 'a')
+    let landed = []
+    for (let t = 0; t < 11; t++) expect(room.step()).toEqual([])
+    landed = room.step()
+    expect(landed.map((drop) => [drop.key, drop.ticks])).toEqual([['a', 12]])
+    expect(room.inFlight).toBe(0)
+  })
+
+  it('ends the replay of a ball that can never cross the bucket line (a wedged ball cannot hang it)', () => {
+    const board = createBoard({ rows: 8, risk: 'low' })
+    const wedged = { ...board, bucketLineY: Infinity }
+    const outcome = simulateDrop(wedged, seed(3))
+    expect(outcome.ticks).toBe(board.maxDropTicks)
+    expect(board.maxDropTicks).toBe(3600)
+  })
+})
