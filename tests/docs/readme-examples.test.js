@@ -37,8 +37,9 @@ export function readmeExamples (markdown) {
 }
 
 describe('README examples', () => {
-  const readme = fs.readFileSync(path.join(ROOT, 'README.md'), 'utf8')
-  const examples = readmeExamples(readme)
+  // The README and the manual it links (docs/*.md).
+  const files = ['README.md', ...fs.readdirSync(path.join(ROOT, 'docs')).filter((name) => name.endsWith('.md')).map((name) => `docs/${name}`)]
+  const examples = files.flatMap((file) => readmeExamples(fs.readFileSync(path.join(ROOT, file), 'utf8')).map((example) => ({ ...example, file })))
 
   it('are there to run', () => {
     expect(examples.length).toBeGreaterThanOrEqual(2)
@@ -53,10 +54,10 @@ describe('README examples', () => {
     expect(() => readmeExamples('<!-- example -->\n```sh\n{"x":1}\n```\n')).toThrow(/must start with a "\$ " command/)
   })
 
-  it.each(examples.map((example) => [example.command, example]))('prints what the README shows: %s', async (command, { line, output }) => {
+  it.each(examples.map((example) => [example.command, example]))('prints what the README shows: %s', async (command, { file, line, output }) => {
     // What `npx plinko` runs here: the bin package.json declares (run with node directly, which saves npx's second of start-up).
     const [name, ...args] = command.slice('npx '.length).split(/ +/)
     const { stdout } = await run(process.execPath, [path.join(ROOT, PACKAGE.bin[name]), ...args], { cwd: ROOT, encoding: 'utf8', timeout: 30_000 })
-    expect(stdout.trimEnd(), `README.md:${line}: ${command}`).toBe(output.join('\n').trimEnd())
+    expect(stdout.trimEnd(), `${file}:${line}: ${command}`).toBe(output.join('\n').trimEnd())
   })
 })

@@ -69,9 +69,9 @@ describe('configuration schema', () => {
     expect(message.match(/\(value hidden\)/g)).toHaveLength(3)
   })
 
-  it('is listed, variable by variable with its default, in the README\'s configuration table', () => {
-    const readme = readFileSync(new URL('../../README.md', import.meta.url), 'utf8')
-    const section = readme.slice(readme.indexOf('### Configuration'))
+  it('is listed, variable by variable with its default, in the configuration table of docs/server.md', () => {
+    const readme = readFileSync(new URL('../../docs/server.md', import.meta.url), 'utf8')
+    const section = readme.slice(readme.indexOf('## Configuration'))
     const rows = section.slice(0, section.indexOf('\n\n', section.indexOf('| --- |'))).split('\n').filter((line) => line.startsWith('| `'))
     const documented = new Map()
     for (const row of rows) {

@@ -36,7 +36,7 @@ describe('metric names', () => {
     }
   })
 
-  it('that the load-test sampler, the soak script and the README name are ones the server exposes', async () => {
+  it('that the load-test sampler, the soak script and the manual (README, docs/) name are ones the server exposes', async () => {
     const names = seriesNames(await createMetrics().registry.metrics())
     for (const file of READERS) {
       const wanted = namesIn(read(file))
@@ -45,8 +45,9 @@ describe('metric names', () => {
     }
     // The README also names k6's own metrics (loadtest/k6-lib/), which the server does not expose.
     const k6Metrics = new Set([...read('loadtest/k6-lib/player-metrics.js').matchAll(/new (?:Counter|Trend|Rate|Gauge)\('([^']+)'/g)].map((m) => m[1]))
-    const documented = [...namesIn(read('README.md'))].filter((name) => !k6Metrics.has(name))
+    const manual = ['README.md', ...fs.readdirSync(path.join(ROOT, 'docs')).filter((name) => name.endsWith('.md')).map((name) => `docs/${name}`)]
+    const documented = [...namesIn(manual.map(read).join('\n'))].filter((name) => !k6Metrics.has(name))
     expect(documented).toContain('plinko_ticks_dropped_total')
-    for (const name of documented) expect(names, `README.md names ${name}`).toContain(name)
+    for (const name of documented) expect(names, `the README or docs/ name ${name}`).toContain(name)
   })
 })
