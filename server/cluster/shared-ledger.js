@@ -28,12 +28,12 @@ export const DROP_ID_BLOCK = 10_000
  *
  * `commitBatch` also returns every touched player's balance as committed,
  * which the arena shows instead of its cached one.
+ * @implements {import('../store/ledger-store.js').LedgerStore}
  */
 export class SharedLedgerStore extends PostgresStore {
   /** @param {{ url: string, poolSize?: number, nonceBlock?: number, dropIdBlock?: number }} options */
   constructor ({ nonceBlock = NONCE_BLOCK, dropIdBlock = DROP_ID_BLOCK, ...options }) {
     super(options)
-    this.shared = true
     this.nonceBlock = nonceBlock
     this.dropIdBlock = dropIdBlock
     /** @type {Map<string, { end: number, next: { start: number, end: number } | null, refilling: Promise<void> | null }>} by seed id */
