@@ -34,7 +34,6 @@ const KNOWN_LONG = new Set([
   'loadtest/lean/lean-worker.js playWorkerPlan',
   'loadtest/lean/lean-worker.js play',
   'server/app.js buildApp',
-  'server/cluster/proxy.js createProxy',
   'server/routes/audit.js auditRoutes',
   'server/routes/seeds.js seedRoutes'
 ])
