@@ -36,12 +36,12 @@ export default async function dropRoutes (app, { arena }) {
     schema: {
       summary: 'One of the caller\'s drops',
       params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
-      response: { 200: dropRecord, ...errors(400, 401, 403, 404) }
+      response: { 200: dropRecord, ...errors(400, 401, 404) }
     }
   }, async (request) => {
     const drop = await store.getDrop(request.params.id)
-    if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
-    if (drop.playerId !== request.playerId) throw gameError('E_FORBIDDEN', 'players may read only their own drops')
+    // Someone else's drop reads as no drop: a 403 would tell a caller which ids exist.
+    if (!drop || drop.playerId !== request.playerId) throw gameError('E_NOT_FOUND', `you have no drop ${request.params.id}`)
     return drop
   })
 }
