@@ -6,11 +6,11 @@ import { dropList, dropRecord, errors } from './schemas.js'
  * A player's own drops, newest first. The server seed appears on a drop
  * only once it has been revealed.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function dropRoutes (app, { arena }) {
+export default async function dropRoutes (app, { arena, authGuard }) {
   const { store } = arena
-  const asPlayer = requirePlayer(store)
+  const asPlayer = requirePlayer(store, authGuard)
 
   app.get('/api/drops', {
     onRequest: asPlayer,
