@@ -142,7 +142,7 @@ export async function buildApp (config, options = {}) {
   await app.register(roomRoutes, { arena })
   await app.register(healthRoutes, { arena })
   await app.register(realtimeRoutes, { arena, authGuard })
-  await app.register(metricsRoutes, { metrics })
+  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
   await app.register(auditRoutes, { arena, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })

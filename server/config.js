@@ -84,6 +84,7 @@ export const CONFIG_SCHEMA = {
     WS_HARD_BUFFER: integer(1, 1 << 30, '1048576'),
     MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
     HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
+    MONITORING_RATE_LIMIT: integer(1, 1e9, '600'),
     AUTH_FAILURE_LIMIT: integer(1, 1e9, '10'),
     AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
@@ -151,6 +152,7 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
+ * @property {number} monitoringRateLimit requests per IP per minute to /metrics, and apart to /api/health
  * @property {number} authFailureLimit wrong operator or session tokens per IP per minute before the IP is blocked (limits/auth-failures.js)
  * @property {number} authBlockMs the first such block; each further one in a row lasts twice as long, up to an hour
  * @property {number} sessionRateLimit new sessions per IP per minute
@@ -262,6 +264,7 @@ export function loadConfig (env = process.env) {
     wsHardBuffer: values.WS_HARD_BUFFER,
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
+    monitoringRateLimit: values.MONITORING_RATE_LIMIT,
     authFailureLimit: values.AUTH_FAILURE_LIMIT,
     authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
