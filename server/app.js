@@ -8,6 +8,7 @@ import { Arena } from './arena.js'
 import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
+import { AuthGuard } from './limits/auth-guard.js'
 import apiDocs from './routes/api-docs.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
@@ -88,6 +89,8 @@ export async function buildApp (config, options = {}) {
     await store.close().catch(() => {})
     throw error
   }
+  const addressLimits = mode.createAddressLimits({ config, log: app.log })
+  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
@@ -115,7 +118,8 @@ export async function buildApp (config, options = {}) {
     errorResponseBuilder: (request, context) => gameError('E_RATE_LIMITED', `rate limit exceeded; retry in ${context.after}`),
     // A request whose socket is already gone (a malformed chunked body, say) has no address:
     // counted under one key rather than crashing the hook with a logged stack trace per request.
-    keyGenerator: (request) => request.ip ?? 'unknown'
+    keyGenerator: (request) => request.ip ?? 'unknown',
+    ...addressLimits.rateLimitOptions
   })
   await app.register(websocket, {
     options: { maxPayload: config.wsMaxPayload },
@@ -132,14 +136,14 @@ export async function buildApp (config, options = {}) {
 
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
-  await app.register(sessionRoutes, { arena })
-  await app.register(seedRoutes, { arena })
-  await app.register(dropRoutes, { arena })
+  await app.register(sessionRoutes, { arena, authGuard })
+  await app.register(seedRoutes, { arena, authGuard })
+  await app.register(dropRoutes, { arena, authGuard })
   await app.register(roomRoutes, { arena })
   await app.register(healthRoutes, { arena })
-  await app.register(realtimeRoutes, { arena })
-  await app.register(metricsRoutes, { metrics })
-  await app.register(auditRoutes, { arena })
+  await app.register(realtimeRoutes, { arena, authGuard })
+  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
+  await app.register(auditRoutes, { arena, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
 
@@ -147,6 +151,7 @@ export async function buildApp (config, options = {}) {
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
     await coordinator.close()
+    await addressLimits.close()
     await store.close()
   })
   return app

@@ -3,6 +3,7 @@ import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import envSchema from 'env-schema'
 import { LOG_FORMATS } from './log-format.js'
+import { operatorTokenWeakness } from './operator-token-strength.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
@@ -62,8 +63,8 @@ export const CONFIG_SCHEMA = {
       type: 'string',
       default: '',
       writeOnly: true,
-      anyOf: [{ const: '' }, { minLength: 16 }],
-      errorMessage: 'must be at least 16 characters (or unset to generate one)'
+      anyOf: [{ const: '' }, { minLength: 24 }],
+      errorMessage: 'must be at least 24 characters (or unset to generate one)'
     },
     SNAPSHOT_HZ: oneOf(SNAPSHOT_RATES.map(String), '20'),
     SPECTATOR_EVENTS: oneOf(['snapshot', 'immediate'], 'snapshot'),
@@ -83,6 +84,9 @@ export const CONFIG_SCHEMA = {
     WS_HARD_BUFFER: integer(1, 1 << 30, '1048576'),
     MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
     HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
+    MONITORING_RATE_LIMIT: integer(1, 1e9, '600'),
+    AUTH_FAILURE_LIMIT: integer(1, 1e9, '10'),
+    AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
     HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
     SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
@@ -148,6 +152,9 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
+ * @property {number} monitoringRateLimit requests per IP per minute to /metrics, and apart to /api/health
+ * @property {number} authFailureLimit wrong operator or session tokens per IP per minute before the IP is blocked (limits/auth-failures.js)
+ * @property {number} authBlockMs the first such block; each further one in a row lasts twice as long, up to an hour
  * @property {number} sessionRateLimit new sessions per IP per minute
  * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
  * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
@@ -225,6 +232,8 @@ export function loadConfig (env = process.env) {
   const problems = []
   if (values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
   if (values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  const weakness = values.OPERATOR_TOKEN === '' ? null : operatorTokenWeakness(values.OPERATOR_TOKEN)
+  if (weakness) problems.push(`OPERATOR_TOKEN=(value hidden): ${weakness}`)
   if (values.REDIS_URL && !/^postgres(ql)?:\/\//.test(values.DATABASE_URL)) {
     problems.push('REDIS_URL (clustering) needs DATABASE_URL=postgres://…: the processes share one ledger')
   }
@@ -255,6 +264,9 @@ export function loadConfig (env = process.env) {
     wsHardBuffer: values.WS_HARD_BUFFER,
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
+    monitoringRateLimit: values.MONITORING_RATE_LIMIT,
+    authFailureLimit: values.AUTH_FAILURE_LIMIT,
+    authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
     httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
     sessionRateLimit: values.SESSION_RATE_LIMIT,

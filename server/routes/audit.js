@@ -26,12 +26,12 @@ function requestedEngineVersion (version = ENGINE_VERSION) {
  * exports and per-room statistics. Active server seeds are used for checks
  * but never returned.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function auditRoutes (app, { arena }) {
+export default async function auditRoutes (app, { arena, authGuard }) {
   const { store } = arena
   // onRequest: the token is checked before anything of the request is (its query's schema included).
-  app.addHook('onRequest', requireOperator(arena.config.operatorToken))
+  app.addHook('onRequest', requireOperator(arena.config.operatorToken, authGuard))
 
   app.get('/api/audit/drops/:id', {
     schema: {

@@ -56,10 +56,17 @@ export function errors (...statuses) {
 /** A timestamp filter: ISO 8601 date/time or milliseconds since the epoch. */
 export const timeParam = { type: 'string', maxLength: 40 }
 
+/**
+ * ISO 8601 as Date.parse reads it: a date, optionally a time, optionally
+ * an offset. Anything else is refused before Date.parse sees it, which
+ * would take "1.5" or "Dec 2" as some date.
+ */
+const ISO_TIME = /^[+-]?\d{4,6}-\d{2}-\d{2}(T\d{2}:\d{2}(:\d{2}(\.\d{1,9})?)?(Z|[+-]\d{2}:\d{2})?)?$/i
+
 /** @param {string | undefined} value @returns {number | undefined} ms */
 export function parseTime (value) {
   if (value === undefined) return undefined
-  const ms = /^\d+$/.test(value) ? Number(value) : Date.parse(value)
+  const ms = /^\d+$/.test(value) ? Number(value) : ISO_TIME.test(value) ? Date.parse(value) : NaN
   // Beyond ±8.64e15 ms is no date (and overflows the database's types).
   return Number.isFinite(ms) && Math.abs(ms) <= 8.64e15 ? ms : NaN
 }
