@@ -65,6 +65,14 @@ export class Arena {
     return count
   }
 
+  /**
+   * Drops recorded here and not settled yet: balls in flight, and landed
+   * balls whose payout is not written (a failing ledger retries it).
+   */
+  get unsettledDrops () {
+    return this.ballsInFlight + this.drops.unsettled
+  }
+
   /** One tick for every room. */
   tick () {
     let inFlight = 0
@@ -201,8 +209,10 @@ export class Arena {
 
   /**
    * Graceful shutdown: no new drops; every ball in flight is played to the
-   * end at once (its outcome is fixed by its seed), settled and committed;
-   * then all connections are closed with 1001 (going away).
+   * end at once (its outcome is fixed by its seed), settled and committed
+   * (a settlement the ledger refuses is tried again after its back-off until
+   * it is written or the caller's shutdown timeout gives up: start-up
+   * recovery then settles it); then all connections are closed with 1001.
    */
   async close () {
     this.stopAccepting()
@@ -214,6 +224,10 @@ export class Arena {
       this.ledger.flush()
     }
     await this.ledger.drain()
+    while (this.drops.unsettled > 0) {
+      await this.drops.nextRetry()
+      await this.ledger.drain()
+    }
     for (const connection of [...this.connections]) connection.close(1001, 'server shutting down')
   }
 }

@@ -19,6 +19,7 @@ export const ERROR_CODES = Object.freeze({
   E_NOT_IN_ROOM: { status: 400, message: 'join a room first' },
   E_UNKNOWN_ROOM: { status: 404, message: 'no such room; room ids are ROWS-RISK or ROWS-RISK.N with rows 8..16, risk low, medium or high and N 2..8' },
   E_ROOM_FULL: { status: 409, message: 'too many balls in flight in this room; try again shortly' },
+  E_SEED_ROTATING: { status: 409, message: 'your server seed is being rotated; drop again once the rotation is answered' },
   E_RATE_LIMITED: { status: 429, message: 'too many requests; slow down' },
   E_UNAUTHORIZED: { status: 401, message: 'missing or invalid token', close: 4401 },
   E_FORBIDDEN: { status: 403, message: 'not allowed' },

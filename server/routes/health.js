@@ -17,15 +17,17 @@ export default async function healthRoutes (app, { arena }) {
         429: errorReply,
         200: {
           type: 'object',
-          properties: { status: { type: 'string' }, engineVersion: { type: 'string' }, engineVersions: { type: 'array', items: { type: 'string' } }, store: { type: 'string' }, tick: { type: 'integer' }, rooms: { type: 'integer' } }
+          properties: { status: { type: 'string' }, engineVersion: { type: 'string' }, engineVersions: { type: 'array', items: { type: 'string' } }, store: { type: 'string' }, settlementsWaiting: { type: 'integer' }, tick: { type: 'integer' }, rooms: { type: 'integer' } }
         }
       }
     }
   }, async () => ({
-    status: arena.accepting ? 'ok' : 'closing',
+    // degraded: payouts the ledger refused are waiting for their retry (a full disk, a lost database)
+    status: !arena.accepting ? 'closing' : arena.drops.settlementsWaiting > 0 ? 'degraded' : 'ok',
     engineVersion: ENGINE_VERSION,
     engineVersions: ENGINE_VERSIONS,
     store: arena.store.kind,
+    settlementsWaiting: arena.drops.settlementsWaiting,
     tick: arena.scheduler.ticks,
     rooms: arena.rooms.size
   }))
