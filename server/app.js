@@ -10,6 +10,7 @@ import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
 import { AuthGuard } from './limits/auth-guard.js'
 import apiDocs from './routes/api-docs.js'
+import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
@@ -102,9 +103,6 @@ export async function buildApp (config, options = {}) {
   }
 
   app.setErrorHandler(replyWithError)
-  app.setNotFoundHandler((request, reply) => {
-    reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
-  })
 
   await app.register(helmet, {
     contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
@@ -136,6 +134,10 @@ export async function buildApp (config, options = {}) {
 
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
+  // Also before them: 405 with Allow for a method a path does not have, 404 for a path no route has.
+  await app.register(methodNotAllowed, {
+    notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
+  })
   await app.register(sessionRoutes, { arena, authGuard })
   await app.register(seedRoutes, { arena, authGuard })
   await app.register(dropRoutes, { arena, authGuard })

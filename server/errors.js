@@ -24,6 +24,7 @@ export const ERROR_CODES = Object.freeze({
   E_UNAUTHORIZED: { status: 401, message: 'missing or invalid token', close: 4401 },
   E_FORBIDDEN: { status: 403, message: 'not allowed' },
   E_NOT_FOUND: { status: 404, message: 'not found' },
+  E_METHOD_NOT_ALLOWED: { status: 405, message: 'this path does not have this method; the Allow header lists the ones it has' },
   E_SLOW_CONSUMER: { status: 503, message: 'client is not reading fast enough', close: 1013 },
   E_TOO_MANY_CONNECTIONS: { status: 429, message: 'too many WebSocket connections from this address or to this server; close one or try again later', close: 4429 },
   E_UNAVAILABLE: { status: 503, message: 'server is shutting down' },

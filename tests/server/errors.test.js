@@ -116,6 +116,7 @@ describe.each(STORE_KINDS)('error codes on %s', (kind) => {
     expectHttpError(await server.api('GET', '/api/drops/987654321', { token: alice.token }), 404, 'E_NOT_FOUND')
     expectHttpError(await server.api('GET', '/api/audit/drops', { token: 'not-the-operator-token' }), 403, 'E_FORBIDDEN')
     expectHttpError(await server.api('GET', '/api/no-such-route'), 404, 'E_NOT_FOUND')
+    expectHttpError(await server.api('DELETE', '/api/me', { token: alice.token }), 405, 'E_METHOD_NOT_ALLOWED')
     expectHttpError(await server.api('GET', '/api/drops?limit=0', { token: alice.token }), 400, 'E_BAD_REQUEST')
     expectHttpError(await server.api('GET', '/api/drops/abc', { token: alice.token }), 400, 'E_BAD_REQUEST')
     expectHttpError(await server.api('PUT', '/api/seeds/client', { token: alice.token, body: { clientSeed: 'ok', extra: 1 } }), 400, 'E_BAD_REQUEST')
