@@ -6,7 +6,7 @@ import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
 import { payoutFor, toCredits } from '../game/money.js'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
-import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
+import { dropList, dropRecord, errors, parseTime, timeParam, TIME_PATTERN } from './schemas.js'
 
 const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }
 /** Printable ASCII only: a NUL or control character is no id (and PostgreSQL refuses NUL in text). */
@@ -26,7 +26,7 @@ const exportQuery = {
 /**
  * The audit routes' refusals by what failed: an engine version outside the
  * enum is E_UNKNOWN_ENGINE_VERSION, an export naming neither or both
- * histories says so; anything else is E_BAD_REQUEST with Ajv's words.
+ * histories says so, a time filter that is no time says what a time is; anything else is E_BAD_REQUEST with Ajv's words.
  * @param {import('ajv').ErrorObject[]} errors @param {string} part
  */
 function auditSchemaError (errors, part) {
@@ -34,6 +34,9 @@ function auditSchemaError (errors, part) {
     return gameError('E_UNKNOWN_ENGINE_VERSION', `no such engine version on this server (it has ${ENGINE_VERSIONS.join(', ')})`)
   }
   if (errors.some((error) => error.keyword === 'oneOf')) return gameError('E_BAD_REQUEST', 'give exactly one of player or serverSeedHash')
+  // A time filter's pattern is long: say what it means.
+  const time = errors.find((error) => error.keyword === 'pattern' && error.params.pattern === TIME_PATTERN)
+  if (time) return gameError('E_BAD_REQUEST', `${time.instancePath.slice(1)} must be an ISO 8601 time or milliseconds since the epoch`)
   return gameError('E_BAD_REQUEST', errors.map((error) => `${part}${error.instancePath} ${error.message}`).join(', '))
 }
 
