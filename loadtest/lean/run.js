@@ -99,7 +99,9 @@ async function main () {
   if (serverFrom?.stat && serverTo?.stat) {
     const seconds = (serverTo.at - serverFrom.at) / 1000
     const cpuS = serverTo.stat.cpuS - serverFrom.stat.cpuS
-    console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received`)
+    const mainS = serverFrom.main && serverTo.main ? serverTo.main.cpuS - serverFrom.main.cpuS : null
+    const drops = summary.steady.ackMs.count
+    console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core${mainS === null ? '' : ` (main thread ${(mainS / seconds * 100).toFixed(1)}%)`}, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received, ${(cpuS * 1e6 / seconds / summary.players).toFixed(0)} µs per player-second, ${drops > 0 ? (cpuS * 1e6 / drops).toFixed(0) : '–'} µs per drop sent in the window`)
   }
   if (options.profile && server && serverFrom && serverTo) printProfile(path.join(dir, 'profile'), serverFrom, serverTo, summary.steady.ackMs.count)
   process.exitCode = summary.passed ? 0 : 1
