@@ -44,7 +44,8 @@ export function createMetrics ({ defaultMetrics = true } = {}) {
     authThrottled: new Counter({ name: 'plinko_auth_throttled_total', help: 'Authenticating requests refused with 429 because their address had too many wrong tokens, by kind', labelNames: ['kind'], registers }),
     errors: new Counter({ name: 'plinko_errors_total', help: 'Protocol and HTTP errors returned, by code', labelNames: ['code'], registers }),
     /** Pre-bound children for the hot path (label lookup once). */
-    snapshotOut: messagesOut.labels('snapshot')
+    snapshotOut: messagesOut.labels('snapshot'),
+    dropEventsOut: messagesOut.labels('drop_events')
   }
 }
 
