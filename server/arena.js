@@ -86,7 +86,14 @@ export class Arena {
     }
     this.ledger.flush()
     const tally = this._tally
-    for (const room of this.rooms.values()) if (room.clients.size > 0) room.deliver(tally)
+    for (const room of this.rooms.values()) {
+      if (room.clients.size === 0) continue
+      try {
+        room.deliver(tally)
+      } catch (error) {
+        this.log.error({ err: error, room: room.id }, 'room delivery failed')
+      }
+    }
     this._count(tally)
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
