@@ -190,6 +190,7 @@ function documentRoute ({ schema = {}, url, route }, queryRules) {
       schema: {
         summary: 'The player page (`/`) and the client\'s files',
         tags: ['pages'],
+        params: { type: 'object', properties: { '*': { type: 'string', description: 'a file of client/', examples: ['index.html', 'audit.html', 'favicon.svg'] } } },
         response: { 200: { description: 'A file of client/', type: 'null' }, 403: { ...errorResponse(403), description: 'E_FORBIDDEN: a path that can name no file (a backslash or a NUL in it)' }, 404: errorResponse(404) }
       },
       url

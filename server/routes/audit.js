@@ -190,7 +190,7 @@ export default async function auditRoutes (app, { arena, authGuard }) {
   app.get('/api/audit/rooms/:id/stats', {
     schema: {
       summary: 'A room\'s settled drops: totals, measured RTP and bucket counts (for the operator\'s charts)',
-      params: { type: 'object', properties: { id: { type: 'string', maxLength: 32 } }, required: ['id'] },
+      params: { type: 'object', properties: { id: { type: 'string', maxLength: 32, description: 'a room id (`ROWS-RISK` or `ROWS-RISK.N`)', examples: ['16-medium', '8-low.2'] } }, required: ['id'] },
       querystring: { type: 'object', properties: { engineVersion: engineVersionParam }, additionalProperties: false },
       response: {
         200: {

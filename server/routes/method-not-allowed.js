@@ -24,7 +24,7 @@ async function methodNotAllowed (app, { notFound }) {
   app.addHook('onRequest', async (request, reply) => {
     if (!request.is404) return
     const allowed = routes.allowedFor(request.url)
-    if (allowed.length > 0 && !allowed.includes(request.method)) refuse(request, reply, allowed)
+    if (allowed.length > 0 && !allowed.includes(request.method)) return refuse(request, reply, allowed)
   })
   app.setNotFoundHandler((request, reply) => {
     const allowed = routes.allowedFor(request.url)
