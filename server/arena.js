@@ -139,7 +139,9 @@ export class Arena {
    * @param {import('./realtime/connection.js').Connection} connection
    * @param {unknown} roomId
    * @param {string} [deliveryName] `join.delivery` (schema-checked): how this socket is fed in the room
-   * @returns {object | Promise<object>} the `joined` message
+   * @returns {object | Promise<object>} the `joined` message: itself when the room runs here, on purpose,
+   *   so a `drop` that follows the `join` in the same TCP chunk (ws emits their messages in one call
+   *   stack, with no microtask between them) finds the room joined; a Promise only when it must be claimed
    */
   join (connection, roomId, deliveryName) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
