@@ -9,6 +9,7 @@ import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
 import { AuthGuard } from './limits/auth-guard.js'
+import { ConnectionLimits, connectionCeiling } from './limits/connection-limits.js'
 import apiDocs from './routes/api-docs.js'
 import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
@@ -64,9 +65,10 @@ export async function buildApp (config, options = {}) {
     keepAliveTimeout: Math.min(KEEP_ALIVE_MS, config.httpIdleTimeoutMs),
     requestTimeout: config.httpRequestTimeoutMs,
     // Node checks for requests past their timeout on this period (default 30 s): a slow
-    // sender (slowloris) is answered 408 and closed within about one period of its deadline.
+    // sender (slowloris) is answered 408 and closed within about one period of its deadline
+    // (its headers' deadline: HTTP_HEADERS_TIMEOUT_MS).
     // Missing Host is refused by requireHost (with a code), not by Node (with an empty body).
-    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs), requireHostHeader: false },
+    http: { connectionsCheckingInterval: Math.min(1000, config.httpHeadersTimeoutMs), headersTimeout: config.httpHeadersTimeoutMs, requireHostHeader: false },
     // Errors raised before routing (a malformed URL such as '/%') get a named code too.
     // Parser errors, header overflow and slow senders get a named code too (routes/client-errors.js).
     clientErrorHandler,
@@ -90,6 +92,12 @@ export async function buildApp (config, options = {}) {
     await store.close().catch(() => {})
     throw error
   }
+  // Connections in total and per peer, the longest idle shed first (limits/connection-limits.js).
+  new ConnectionLimits({
+    maxTotal: connectionCeiling(config.httpMaxConnections),
+    maxPerAddress: config.trustProxy === false ? config.httpMaxConnectionsPerIp : null,
+    metrics
+  }).attach(app.server)
   const addressLimits = mode.createAddressLimits({ config, log: app.log })
   const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   app.decorate('arena', arena)

@@ -90,6 +90,9 @@ export const CONFIG_SCHEMA = {
     AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
     HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    HTTP_HEADERS_TIMEOUT_MS: integer(100, 3600000, '10000'),
+    HTTP_MAX_CONNECTIONS: integer(0, 1e7, '0'),
+    HTTP_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '256'),
     SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
     WS_MAX_CONNECTIONS: integer(1, 1e7, '10000'),
     WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
@@ -160,6 +163,9 @@ export const CONFIG_SCHEMA = {
  * @property {number} sessionRateLimit new sessions per IP per minute
  * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
  * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
+ * @property {number} httpHeadersTimeoutMs its headers within this (at most httpRequestTimeoutMs)
+ * @property {number} httpMaxConnections HTTP connections in total, WebSockets included (0: 90% of the open-file limit; never more than that)
+ * @property {number} httpMaxConnectionsPerIp HTTP connections per TCP peer address (off behind a proxy: TRUST_PROXY)
  * @property {number} wsMaxConnections open WebSockets in total
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
@@ -272,6 +278,9 @@ export function loadConfig (env = process.env) {
     authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
     httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
+    httpHeadersTimeoutMs: Math.min(values.HTTP_HEADERS_TIMEOUT_MS, values.HTTP_REQUEST_TIMEOUT_MS),
+    httpMaxConnections: values.HTTP_MAX_CONNECTIONS,
+    httpMaxConnectionsPerIp: values.HTTP_MAX_CONNECTIONS_PER_IP,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
     wsMaxConnections: values.WS_MAX_CONNECTIONS,
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,
