@@ -191,6 +191,7 @@ export class DropLifecycle {
       const account = drop.account
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
+        if (refused === 'E_SEED_ROTATED') this.coordinator.seedOutdated(account)
         this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
         continue
       }
