@@ -1,4 +1,5 @@
 import { describe, it, expect } from 'vitest'
+import Redis from 'ioredis'
 import { clusterTestbed, query, ledgerMismatches, eventually } from './helpers/cluster.js'
 
 /**
@@ -53,5 +54,29 @@ describe('cluster: a seed rotation reaches every worker', () => {
     expect(Number(n)).toBe(2 * ROTATIONS)
     expect(await ledgerMismatches(databaseUrl, 100000)).toEqual([])
     console.info(`[cluster seed rotation] ${ROTATIONS} rotations on one worker: the next drop on the other worker used the new seed every time; its welcome and /api/me showed the new commitment`)
+  })
+  it('a worker that missed the notice switches on its first refused drop instead of locking the player out', async () => {
+    const databaseUrl = await testbed.postgres.createDatabase()
+    const a = await testbed.startNode({ databaseUrl })
+    const b = await testbed.startNode({ databaseUrl })
+    const player = await a.session()
+    const onB = await connect(b, player.token)
+    expect(await join(onB, '9-medium')).toMatchObject({ type: 'joined' })
+    // Every subscriber is cut off (they reconnect within ~50 ms): the rotation's notice reaches no one.
+    const admin = new Redis(testbed.redis.url)
+    await admin.client('KILL', 'TYPE', 'pubsub')
+    const response = await fetch(`${a.url}/api/seeds/rotate`, { method: 'POST', headers: { authorization: `Bearer ${player.token}` } })
+    await admin.quit()
+    expect(response.status).toBe(200)
+    const rotated = await response.json()
+    onB.send({ type: 'drop', bet: 1, ref: 'first' })
+    const first = await onB.take((m) => m.ref === 'first')
+    if (first.type === 'error') expect(first.code).toBe('E_SEED_ROTATED')
+    else expect(first.serverSeedHash).toBe(rotated.serverSeedHash)
+    onB.send({ type: 'drop', bet: 1, ref: 'second' })
+    expect(await onB.take((m) => m.ref === 'second')).toMatchObject({ type: 'dropped', serverSeedHash: rotated.serverSeedHash })
+    console.info(`[cluster seed rotation] notice lost: the first drop on the other worker ${first.type === 'error' ? 'was refused (E_SEED_ROTATED)' : 'went through (the notice came anyway)'}, the second used the new seed`)
+    await eventually(async () => Number((await query(databaseUrl, "SELECT COUNT(*) AS n FROM drops WHERE status = 'in_flight'"))[0].n) === 0)
+    expect(await ledgerMismatches(databaseUrl, 100000)).toEqual([])
   })
 })
