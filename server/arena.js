@@ -238,7 +238,8 @@ export class Arena {
       this.ledger.flush()
     }
     await this.ledger.drain()
-    while (this.drops.unsettled > 0) {
+    // Only while a retry is pending: anything else still counted is reported by the caller, not waited for.
+    while (this.drops.unsettled > 0 && this.drops.retryTimers.size > 0) {
       await this.drops.nextRetry()
       await this.ledger.drain()
     }

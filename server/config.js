@@ -98,6 +98,8 @@ export const CONFIG_SCHEMA = {
     WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
     WS_MESSAGE_RATE: integer(1, 1e6, '100'),
     WS_MESSAGE_BURST: integer(1, 1e6, '200'),
+    WS_IP_MESSAGE_RATE: integer(1, 1e9, '500'),
+    WS_IP_BYTE_RATE: integer(1024, 1e12, '262144'),
     WS_HEARTBEAT_MS: integer(100, 3600000, '30000'),
     SHUTDOWN_TIMEOUT_MS: integer(100, 3600000, '10000'),
     // See trustProxy() for what each form means.
@@ -170,6 +172,8 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
  * @property {number} wsMessageBurst token bucket capacity for frames per connection
+ * @property {number} wsIpMessageRate frames per second received from one client IP over all its sockets
+ * @property {number} wsIpByteRate payload bytes per second received from one client IP over all its sockets
  * @property {number} wsHeartbeatMs ping interval; a peer that misses a ping is dropped
  * @property {number} shutdownTimeoutMs bound on a graceful shutdown, after which the process exits anyway
  * @property {false | number | string[]} trustProxy which X-Forwarded-For hops to believe (see trustProxy()) @property {string} clientDir
@@ -286,6 +290,8 @@ export function loadConfig (env = process.env) {
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,
     wsMessageRate: values.WS_MESSAGE_RATE,
     wsMessageBurst: values.WS_MESSAGE_BURST,
+    wsIpMessageRate: values.WS_IP_MESSAGE_RATE,
+    wsIpByteRate: values.WS_IP_BYTE_RATE,
     wsHeartbeatMs: values.WS_HEARTBEAT_MS,
     shutdownTimeoutMs: values.SHUTDOWN_TIMEOUT_MS,
     trustProxy: trustProxy(values.TRUST_PROXY),

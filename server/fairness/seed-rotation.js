@@ -25,7 +25,7 @@ import { newServerSeed } from './seeds.js'
 export async function rotateServerSeed (arena, account) {
   account.seedRotations++
   try {
-    return await arena.ledger.run(async () => {
+    const reply = await arena.ledger.run(async () => {
       const old = account.seed
       const fresh = newServerSeed()
       // Every drop on `old` is written by now (the queue), each stamped before this.
@@ -40,6 +40,13 @@ export async function rotateServerSeed (arena, account) {
         nonce: 0
       }
     })
+    // Before the answer (and outside the ledger queue): the next drop on any process uses the new seed.
+    await arena.coordinator.seedRotated(account)
+    return reply
+  } catch (error) {
+    // Rotated by another process first (clustered): this one held an old seed.
+    if (error?.code === 'E_SEED_ROTATED') arena.coordinator.seedOutdated(account)
+    throw error
   } finally {
     account.seedRotations--
   }

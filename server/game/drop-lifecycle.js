@@ -131,19 +131,7 @@ export class DropLifecycle {
     for (const settlement of this.settling) if (settlement.drop.void) this.settling.delete(settlement)
   }
 
-  /**
-   * Sends every settlement waiting for its back-off to the ledger now and
-   * resolves once they have been tried (the shutdown's last attempts).
-   */
-  async retryWaitingNow () {
-    for (const [settlement, timer] of this.retryTimers) {
-      clearTimeout(timer)
-      this._retry(settlement)
-    }
-    await this.ledger.drain()
-  }
-
-  /** Resolves when the next settlement's back-off ends (at once if none waits). */
+  /** Resolves when the next settlement's back-off ends and it is queued (at once if none waits). */
   nextRetry () {
     if (this.retryTimers.size === 0) return Promise.resolve()
     return new Promise((resolve) => this._retryWaiters.push(resolve))
@@ -192,6 +180,7 @@ export class DropLifecycle {
       const account = drop.account
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
+        if (refused === 'E_SEED_ROTATED') this.coordinator.seedOutdated(account)
         this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
         continue
       }

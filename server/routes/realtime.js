@@ -21,7 +21,13 @@ export default async function realtimeRoutes (app, { arena, authGuard }) {
   const { config, metrics } = arena
   const parseMessage = createMessageParser(config)
   /** Per client IP (request.ip: honours TRUST_PROXY): open sockets, drop and join buckets. And sockets in total. */
-  const ipLimits = new IpLimits({ dropRate: config.dropRatePerIp, joinRate: config.joinRatePerIp })
+  const ipLimits = new IpLimits({
+    dropRate: config.dropRatePerIp,
+    joinRate: config.joinRatePerIp,
+    messageRate: config.wsIpMessageRate,
+    byteRate: config.wsIpByteRate,
+    maxPayload: config.wsMaxPayload
+  })
   let open = 0
   const sweeper = setInterval(() => ipLimits.sweep(), IP_SWEEP_MS).unref()
   app.addHook('onClose', async () => clearInterval(sweeper))
