@@ -8,6 +8,7 @@ import { Arena } from './arena.js'
 import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
+import { SeedChanges } from './game/seed-changes.js'
 import { AuthGuard } from './limits/auth-guard.js'
 import { ConnectionLimits, connectionCeiling } from './limits/connection-limits.js'
 import apiDocs from './routes/api-docs.js'
@@ -146,14 +147,17 @@ export async function buildApp (config, options = {}) {
   await app.register(methodNotAllowed, {
     notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
   })
-  await app.register(sessionRoutes, { arena, authGuard })
-  await app.register(seedRoutes, { arena, authGuard })
-  await app.register(dropRoutes, { arena, authGuard })
-  await app.register(roomRoutes, { arena })
-  await app.register(healthRoutes, { arena })
-  await app.register(realtimeRoutes, { arena, authGuard })
+  // Each route gets the services it uses, not the whole arena.
+  const { accounts } = arena
+  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, coordinator })
+  await app.register(sessionRoutes, { config, store, accounts, authGuard })
+  await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
+  await app.register(dropRoutes, { store, authGuard })
+  await app.register(roomRoutes, { coordinator })
+  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
+  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
-  await app.register(auditRoutes, { arena, authGuard })
+  await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
 

@@ -79,6 +79,14 @@ export class Arena {
     return this.ballsInFlight + this.drops.unsettled
   }
 
+  /**
+   * @typedef {{ accepting: boolean, settlementsWaiting: number, store: string, tick: number, rooms: number }} ArenaHealth
+   * @returns {ArenaHealth} what GET /api/health reports
+   */
+  health () {
+    return { accepting: this.accepting, settlementsWaiting: this.drops.settlementsWaiting, store: this.store.kind, tick: this.scheduler.ticks, rooms: this.rooms.size }
+  }
+
   /** One tick for every room. */
   tick () {
     let inFlight = 0

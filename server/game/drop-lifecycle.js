@@ -79,7 +79,7 @@ export class DropLifecycle {
     if (!Number.isSafeInteger(bet) || bet < minBet || bet > maxBet) throw gameError('E_BAD_BET', `bet must be an integer from ${minBet} to ${maxBet}`)
     if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
     const account = connection.account
-    // Its seed is about to be revealed (fairness/seed-rotation.js): no drop may be recorded on it after that.
+    // Its seed is about to be revealed (game/seed-changes.js): no drop may be recorded on it after that.
     if (account.seedRotations > 0) throw gameError('E_SEED_ROTATING')
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
     if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
