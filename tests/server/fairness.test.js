@@ -113,9 +113,10 @@ describe.each(STORE_KINDS)('provably fair seeds on %s', (kind) => {
     const bob = await server.player()
     const { dropped } = await dropAndSettle(alice.client, { bet: 4 })
     expect((await server.api('GET', `/api/drops/${dropped.dropId}`, { token: alice.token })).body).toMatchObject({ id: dropped.dropId, playerId: alice.session.playerId })
-    const forbidden = await server.api('GET', `/api/drops/${dropped.dropId}`, { token: bob.token })
-    expect(forbidden.status).toBe(403)
-    expect(forbidden.body.code).toBe('E_FORBIDDEN')
+    // Another player's drop answers as no drop does (a 403 would let anyone count ids).
+    const others = await server.api('GET', `/api/drops/${dropped.dropId}`, { token: bob.token })
+    expect(others.status).toBe(404)
+    expect(others.body).toEqual({ code: 'E_NOT_FOUND', message: `you have no drop ${dropped.dropId}` })
     const bobsList = await server.api('GET', '/api/drops?limit=500', { token: bob.token })
     expect(bobsList.body.drops).toEqual([])
     await alice.client.close()
