@@ -3,6 +3,7 @@ import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import envSchema from 'env-schema'
 import { LOG_FORMATS } from './log-format.js'
+import { operatorTokenWeakness } from './operator-token-strength.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
@@ -62,10 +63,11 @@ export const CONFIG_SCHEMA = {
       type: 'string',
       default: '',
       writeOnly: true,
-      anyOf: [{ const: '' }, { minLength: 16 }],
-      errorMessage: 'must be at least 16 characters (or unset to generate one)'
+      anyOf: [{ const: '' }, { minLength: 24 }],
+      errorMessage: 'must be at least 24 characters (or unset to generate one)'
     },
     SNAPSHOT_HZ: oneOf(SNAPSHOT_RATES.map(String), '20'),
+    EVENT_HZ: oneOf(SNAPSHOT_RATES.map(String), '4'),
     SPECTATOR_EVENTS: oneOf(['snapshot', 'immediate'], 'snapshot'),
     STARTING_BALANCE: integer(0, Number.MAX_SAFE_INTEGER, '100000'),
     MIN_BET: integer(1, Number.MAX_SAFE_INTEGER, '1'),
@@ -83,8 +85,14 @@ export const CONFIG_SCHEMA = {
     WS_HARD_BUFFER: integer(1, 1 << 30, '1048576'),
     MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
     HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
+    MONITORING_RATE_LIMIT: integer(1, 1e9, '600'),
+    AUTH_FAILURE_LIMIT: integer(1, 1e9, '10'),
+    AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
     HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    HTTP_HEADERS_TIMEOUT_MS: integer(100, 3600000, '10000'),
+    HTTP_MAX_CONNECTIONS: integer(0, 1e7, '0'),
+    HTTP_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '256'),
     SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
     WS_MAX_CONNECTIONS: integer(1, 1e7, '10000'),
     WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
@@ -138,6 +146,7 @@ export const CONFIG_SCHEMA = {
  * @property {{ kind: 'sqlite', file: string, busyTimeoutMs: number } | { kind: 'postgres', url: string }} database
  * @property {string} operatorToken @property {boolean} operatorTokenGenerated
  * @property {number} snapshotHz @property {number} startingBalance
+ * @property {number} eventHz drop-events frames per second at most, per room, to seeds-mode sockets
  * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
  * @property {'auto' | 'json' | 'pretty'} logFormat pretty logs and a banner on a terminal, JSON lines otherwise (server/log-format.js)
@@ -150,9 +159,15 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
+ * @property {number} monitoringRateLimit requests per IP per minute to /metrics, and apart to /api/health
+ * @property {number} authFailureLimit wrong operator or session tokens per IP per minute before the IP is blocked (limits/auth-failures.js)
+ * @property {number} authBlockMs the first such block; each further one in a row lasts twice as long, up to an hour
  * @property {number} sessionRateLimit new sessions per IP per minute
  * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
  * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
+ * @property {number} httpHeadersTimeoutMs its headers within this (at most httpRequestTimeoutMs)
+ * @property {number} httpMaxConnections HTTP connections in total, WebSockets included (0: 90% of the open-file limit; never more than that)
+ * @property {number} httpMaxConnectionsPerIp HTTP connections per TCP peer address (off behind a proxy: TRUST_PROXY)
  * @property {number} wsMaxConnections open WebSockets in total
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
@@ -229,6 +244,8 @@ export function loadConfig (env = process.env) {
   const problems = []
   if (values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
   if (values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  const weakness = values.OPERATOR_TOKEN === '' ? null : operatorTokenWeakness(values.OPERATOR_TOKEN)
+  if (weakness) problems.push(`OPERATOR_TOKEN=(value hidden): ${weakness}`)
   if (values.REDIS_URL && !/^postgres(ql)?:\/\//.test(values.DATABASE_URL)) {
     problems.push('REDIS_URL (clustering) needs DATABASE_URL=postgres://…: the processes share one ledger')
   }
@@ -242,6 +259,7 @@ export function loadConfig (env = process.env) {
     operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
     operatorTokenGenerated: generated,
     snapshotHz: Number(values.SNAPSHOT_HZ),
+    eventHz: Number(values.EVENT_HZ),
     spectatorEvents: values.SPECTATOR_EVENTS,
     startingBalance: values.STARTING_BALANCE,
     minBet: values.MIN_BET,
@@ -259,8 +277,14 @@ export function loadConfig (env = process.env) {
     wsHardBuffer: values.WS_HARD_BUFFER,
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
+    monitoringRateLimit: values.MONITORING_RATE_LIMIT,
+    authFailureLimit: values.AUTH_FAILURE_LIMIT,
+    authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
     httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
+    httpHeadersTimeoutMs: Math.min(values.HTTP_HEADERS_TIMEOUT_MS, values.HTTP_REQUEST_TIMEOUT_MS),
+    httpMaxConnections: values.HTTP_MAX_CONNECTIONS,
+    httpMaxConnectionsPerIp: values.HTTP_MAX_CONNECTIONS_PER_IP,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
     wsMaxConnections: values.WS_MAX_CONNECTIONS,
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,

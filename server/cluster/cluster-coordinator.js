@@ -2,7 +2,7 @@ import os from 'node:os'
 import { randomBytes } from 'node:crypto'
 import Redis from 'ioredis'
 import { parseRoomId } from '../../protocol/room-id.js'
-import { gameError } from '../errors.js'
+import { GameError, gameError } from '../errors.js'
 import { settleInterruptedDrops } from '../game/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'
 import { BalanceSync } from './balance-sync.js'
@@ -119,7 +119,15 @@ export class ClusterCoordinator {
    * @param {string} roomId a valid room id
    */
   async claimRoom (roomId) {
-    const claim = await this.claim(roomId)
+    let claim
+    try {
+      claim = await this.claim(roomId)
+    } catch (error) {
+      if (error instanceof GameError) throw error
+      // Redis (or the ledger) did not answer: the room may be anyone's; the player retries, as after a takeover.
+      this.log.warn({ err: error, room: roomId }, 'cannot claim room: coordination store unavailable')
+      throw withDetails(gameError('E_ROOM_MOVING', 'rooms cannot be claimed right now (the cluster\'s Redis does not answer); retry after `retryAfterMs`'), { room: roomId, retryAfterMs: this.ttlMs })
+    }
     if (claim.held) return
     if (claim.owner) throw withDetails(gameError('E_WRONG_NODE', `room ${roomId} runs on ${claim.owner}; connect to ${claim.owner}/ws and join again`), { room: roomId, owner: claim.owner })
     throw withDetails(gameError('E_ROOM_MOVING'), { room: roomId, retryAfterMs: claim.retryAfterMs })

@@ -2,7 +2,8 @@ import { GroupCommit } from '../ledger/group-commit.js'
 import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
 import { gameError } from '../errors.js'
 import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
-import { createDrop, droppedMessage, settledMessage } from './drop.js'
+import { createDrop } from './drop.js'
+import { droppedMessage, settledMessage } from '../../protocol/server-messages.js'
 
 /**
  * A settlement whose commit failed is tried again after a back-off that
@@ -190,7 +191,7 @@ export class DropLifecycle {
       drop.room.show(drop)
       this.metrics.drops.inc()
       this.metrics.betTotal.inc(drop.bet)
-      this._broadcast(drop, droppedMessage(drop), toCredits(account.balance))
+      drop.room.dropAnnounced(drop, this._sendToOwnerConnections(drop, droppedMessage(drop), toCredits(account.balance)))
       touched?.add(drop.room)
     }
     for (const settlement of settlements) {
@@ -204,10 +205,11 @@ export class DropLifecycle {
       this.accounts.release(account)
       this.metrics.settles.inc()
       this.metrics.payoutTotal.inc(toCredits(payout))
-      this._broadcast(drop, settledMessage(settlement), toCredits(account.balance))
+      const settled = settledMessage(drop, { ...settlement, payout: toCredits(payout) })
+      drop.room.dropSettled(drop, this._sendToOwnerConnections(drop, settled, toCredits(account.balance)))
       touched?.add(drop.room)
     }
-    if (touched) for (const room of touched) room.sendQueuedEvents()
+    if (touched) for (const room of touched) room.flushEvents()
   }
 
   /** A batch was rolled back: refuse its drops (nothing was debited) and retry its settlements. */
@@ -255,21 +257,24 @@ export class DropLifecycle {
   /**
    * Sends a drop event to all of the owner's connections at once (only the
    * owner's copy carries the balance, and only the connection that asked
-   * gets its `ref` back) and queues it for everyone in the room, who get it
-   * with the room's next snapshot (≤ 1/SNAPSHOT_HZ later) in one frame
-   * with the other events. The owner's connections in the room get that
-   * copy too, and skip their own player's events.
+   * gets its `ref` back): in every delivery mode, this is how a player's
+   * balance changes reach it. The room's feeds tell everyone else, each in
+   * its own way and pace (server/realtime/deliveries.js); the owner's
+   * connections in the room get that copy too, and skip their own events.
+   * @param {number} balance the owner's, in credits
+   * @returns {string} the message as the room sees it (no balance), JSON
    */
-  /** @param {number} balance the owner's, in credits */
-  _broadcast (drop, message, balance) {
-    const account = drop.account
-    const owner = JSON.stringify({ ...message, balance })
+  _sendToOwnerConnections (drop, message, balance) {
+    // One JSON encoding per event: the owner's copy is the room's text with the balance
+    // appended, the requester's with its ref too.
+    const text = JSON.stringify(message)
+    const owner = `${text.slice(0, -1)},"balance":${JSON.stringify(balance)}}`
     const type = message.type
-    drop.room.queueEvent(JSON.stringify(message))
-    for (const client of account.connections) {
-      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
+    for (const client of drop.account.connections) {
+      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(`${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}`, type)
       else client.sendEvent(owner, type)
     }
+    return text
   }
 
   _sendToOwner (drop, code, message) {

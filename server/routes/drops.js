@@ -3,14 +3,23 @@ import { gameError } from '../errors.js'
 import { dropList, dropRecord, errors } from './schemas.js'
 
 /**
- * A player's own drops, newest first. The server seed appears on a drop
- * only once it has been revealed.
- * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * What anyone may read of any drop: exactly what its room was told in
+ * `dropped` and `settled` (the allow-list below is the response schema, so
+ * nothing else can leak; no server seed, even a revealed one).
  */
-export default async function dropRoutes (app, { arena }) {
+const PUBLIC_DROP_FIELDS = ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedHash', 'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'status', 'bucket', 'multiplier', 'payout', 'payoutRule', 'ticks', 'stateHash']
+const publicDropRecord = { type: 'object', properties: Object.fromEntries(PUBLIC_DROP_FIELDS.map((field) => [field, dropRecord.properties[field]])) }
+
+/**
+ * A player's own drops, newest first (the server seed appears on a drop
+ * only once it has been revealed); and any drop's public facts, for a page
+ * in seeds mode that verifies another player's drop on demand.
+ * @param {import('fastify').FastifyInstance} app
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ */
+export default async function dropRoutes (app, { arena, authGuard }) {
   const { store } = arena
-  const asPlayer = requirePlayer(store)
+  const asPlayer = requirePlayer(store, authGuard)
 
   app.get('/api/drops', {
     onRequest: asPlayer,
@@ -36,12 +45,24 @@ export default async function dropRoutes (app, { arena }) {
     schema: {
       summary: 'One of the caller\'s drops',
       params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
-      response: { 200: dropRecord, ...errors(400, 401, 403, 404) }
+      response: { 200: dropRecord, ...errors(400, 401, 404) }
+    }
+  }, async (request) => {
+    const drop = await store.getDrop(request.params.id)
+    // Someone else's drop reads as no drop: a 403 would tell a caller which ids exist.
+    if (!drop || drop.playerId !== request.playerId) throw gameError('E_NOT_FOUND', `you have no drop ${request.params.id}`)
+    return drop
+  })
+
+  app.get('/api/public/drops/:id', {
+    schema: {
+      summary: "Any drop's public facts: what its room was told in `dropped` and `settled` (to verify another player's drop)",
+      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
+      response: { 200: publicDropRecord, ...errors(400, 404) }
     }
   }, async (request) => {
     const drop = await store.getDrop(request.params.id)
     if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
-    if (drop.playerId !== request.playerId) throw gameError('E_FORBIDDEN', 'players may read only their own drops')
     return drop
   })
 }
