@@ -45,7 +45,7 @@ export async function rotateServerSeed (arena, account) {
     return reply
   } catch (error) {
     // Rotated by another process first (clustered): this one held an old seed.
-    if (error?.code === 'E_SEED_ROTATED') arena.coordinator.seedOutdated(account)
+    if (error?.code === 'E_SEED_ROTATED') await arena.coordinator.seedOutdated(account)
     throw error
   } finally {
     account.seedRotations--
