@@ -199,7 +199,10 @@ export class DropLifecycle {
       const { drop, payout } = settlement
       const account = drop.account
       this.settling.delete(settlement)
-      if (settlement.attempts > 0) this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+      if (settlement.attempts > 0) {
+        this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+        this.metrics.settlementsWaiting.set(this.settlementsWaiting)
+      }
       account.commits++
       // Settled by another process (a shared ledger after a takeover): not credited here.
       account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
@@ -226,6 +229,7 @@ export class DropLifecycle {
       }
       this.retryTimers.set(settlement, setTimeout(() => this._retry(settlement), delay).unref())
     }
+    if (settlements.length > 0) this.metrics.settlementsWaiting.set(this.settlementsWaiting)
   }
 
   /**
