@@ -24,6 +24,7 @@ export function createMetrics ({ defaultMetrics = true } = {}) {
     rooms: new Gauge({ name: 'plinko_rooms', help: 'Rooms alive', registers }),
     clients: new Gauge({ name: 'plinko_ws_clients', help: 'Open WebSocket connections', registers }),
     ballsInFlight: new Gauge({ name: 'plinko_balls_in_flight', help: 'Balls in flight across all rooms', registers }),
+    settlementsWaiting: new Gauge({ name: 'plinko_settlements_waiting', help: 'Payouts the ledger refused, waiting for their retry (/api/health says degraded meanwhile)', registers }),
     tickDuration: new Histogram({ name: 'plinko_tick_duration_seconds', help: 'Work per 60 Hz tick: stepping every room and broadcasting snapshots', buckets: TICK_SECONDS, registers }),
     tickLag: new Histogram({ name: 'plinko_tick_lag_seconds', help: 'How late each tick started after its scheduled time', buckets: LAG_SECONDS, registers }),
     tickLagCurrent: new Gauge({ name: 'plinko_tick_lag_current_seconds', help: 'Lag of the most recent tick', registers }),

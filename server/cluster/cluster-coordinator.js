@@ -103,7 +103,7 @@ export class ClusterCoordinator {
   seedRotated (account) { return this.seeds.rotated(account.playerId, account.seed.id) }
 
   /** @param {import('../ledger/accounts.js').Account} account */
-  seedOutdated (account) { this.seeds.refresh(account) }
+  seedOutdated (account) { return this.seeds.refresh(account) }
 
   /** Every room running in the cluster, with the URL of the process that runs it. */
   listRooms () { return this.directory.list() }

@@ -30,7 +30,7 @@ export class LocalCoordinator {
   takeDropId () { return this.nextDropId++ }
   balancesCommitted () {}
   async seedRotated () {}
-  seedOutdated () {}
+  async seedOutdated () {}
   async listRooms () { return [...this.arena.rooms.values()].map((room) => room.summary()) }
   setListenUrl () {}
   async close () {}

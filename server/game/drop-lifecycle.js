@@ -180,8 +180,9 @@ export class DropLifecycle {
       const account = drop.account
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
-        if (refused === 'E_SEED_ROTATED') this.coordinator.seedOutdated(account)
-        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
+        // A seed rotated by another process: the player hears of it once this one has the new seed, so dropping again works.
+        const told = refused === 'E_SEED_ROTATED' ? this.coordinator.seedOutdated(account) : undefined
+        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined, told)
         continue
       }
       account.reserved -= betCost(drop.bet)
@@ -198,7 +199,10 @@ export class DropLifecycle {
       const { drop, payout } = settlement
       const account = drop.account
       this.settling.delete(settlement)
-      if (settlement.attempts > 0) this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+      if (settlement.attempts > 0) {
+        this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+        this.metrics.settlementsWaiting.set(this.settlementsWaiting)
+      }
       account.commits++
       // Settled by another process (a shared ledger after a takeover): not credited here.
       account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
@@ -225,6 +229,7 @@ export class DropLifecycle {
       }
       this.retryTimers.set(settlement, setTimeout(() => this._retry(settlement), delay).unref())
     }
+    if (settlements.length > 0) this.metrics.settlementsWaiting.set(this.settlementsWaiting)
   }
 
   /**
@@ -244,14 +249,19 @@ export class DropLifecycle {
     while (room.ballsInFlight > 0 && guard++ < 100_000) room.step(this.landed)
   }
 
-  /** A drop that was not recorded: its ball is forgotten, nothing was debited. */
-  _refuse (drop, code, message) {
+  /**
+   * A drop that was not recorded: its ball is forgotten, nothing was
+   * debited; the owner is told at once, or once `after` resolves.
+   * @param {Promise<void>} [after]
+   */
+  _refuse (drop, code, message, after) {
     const account = drop.account
     drop.room.discard(drop)
     account.reserved -= betCost(drop.bet)
     if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
     this.accounts.release(account)
-    this._sendToOwner(drop, code, message)
+    if (after) after.then(() => this._sendToOwner(drop, code, message))
+    else this._sendToOwner(drop, code, message)
   }
 
   /**

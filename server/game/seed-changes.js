@@ -61,7 +61,7 @@ export class SeedChanges {
       return reply
     } catch (error) {
       // Rotated by another process first (clustered): this one held an old seed.
-      if (error?.code === 'E_SEED_ROTATED') this.coordinator.seedOutdated(account)
+      if (error?.code === 'E_SEED_ROTATED') await this.coordinator.seedOutdated(account)
       throw error
     } finally {
       account.seedRotations--
