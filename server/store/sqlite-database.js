@@ -13,16 +13,29 @@ import { DatabaseSync } from 'node:sqlite'
  * @returns {DatabaseSync}
  */
 export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
-  if (file !== ':memory:') fs.mkdirSync(path.dirname(file), { recursive: true })
-  const db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true })
+  if (file !== ':memory:') {
+    try {
+      fs.mkdirSync(path.dirname(file), { recursive: true })
+    } catch (error) {
+      throw new Error(`cannot create the SQLite ledger's directory ${path.dirname(file)}: ${error.message}`, { cause: error })
+    }
+  }
+  let db
   try {
+    db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true })
     db.exec('PRAGMA journal_mode = WAL')
     db.exec('PRAGMA synchronous = FULL')
   } catch (error) {
-    db.close()
-    throw withSqliteCode(error)
+    db?.close()
+    throw cannotOpen(file, withSqliteCode(error))
   }
   return db
+}
+
+/** Why a ledger did not open, with the path and what SQLite needs there. */
+function cannotOpen (file, error) {
+  const wanted = file === ':memory:' ? '' : `; SQLite must be able to write ${file} and create files in ${path.dirname(file)} (the WAL journal keeps ${path.basename(file)}-wal and -shm beside it)`
+  return Object.assign(new Error(`cannot open the SQLite ledger ${file}: ${error.message}${wanted}`, { cause: error }), { code: error.code })
 }
 
 /**
