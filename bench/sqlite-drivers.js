@@ -15,12 +15,16 @@
  *   ticks after its drop), 1,500 players; from the end of a tick to its
  *   transaction's durable commit (synchronous=FULL), on the writer thread.
  * - CPU per committed drop: the process's CPU (event loop + writer thread)
- *   over the measured window, divided by the drops committed in it.
+ *   for the same ticks committed back to back, one transaction each (so the
+ *   work does not depend on how many ticks a busy machine merged), divided
+ *   by the drops committed.
  * - recovery after SIGKILL: a real server process (server/server.js) is
  *   killed with 100 balls in flight; on a copy of its ledger per driver, the
  *   recovery (open, migrate, replay and settle the 100, durably), and a
  *   real server restarted on another copy (spawn to listening).
- * The drivers run alternately (`--rounds`), in child processes.
+ * The drivers run alternately (`--rounds`, in alternating order), in child
+ * processes. The figures move a lot with the machine's load: compare the
+ * round-by-round ratios it prints last.
  */
 import { spawn } from 'node:child_process'
 import fs from 'node:fs'
@@ -48,7 +52,7 @@ const option = (name, fallback) => {
   return at === -1 ? fallback : args[at + 1]
 }
 
-if (option('child') === 'commit') await commitChild(Number(option('seconds', 10)))
+if (option('child') === 'commit') await commitChild(Number(option('seconds', 10)), option('paced', 'yes') === 'yes')
 else if (option('child') === 'recover') await recoverChild(option('file'))
 else await main()
 
@@ -62,18 +66,20 @@ async function main () {
   else console.log('BETTER_SQLITE3_DIR is not set: node:sqlite alone (see the header of bench/sqlite-drivers.js)')
   console.log(`Node ${process.version}, SQLite ${process.versions.sqlite}; ${DROPS_PER_SECOND} drops/s + settlements at ${TICK_HZ} Hz, ${seconds} s × ${rounds} rounds per driver; ${restarts} kills with ${IN_FLIGHT_AT_KILL} in flight`)
 
-  const results = new Map(drivers.map((d) => [d.name, { latencies: [], cpuUs: 0, drops: 0, maxMerged: 0, recovery: [], restart: [], version: '', roundP50s: [] }]))
+  const results = new Map(drivers.map((d) => [d.name, { latencies: [], cpuUs: 0, drops: 0, maxMerged: 0, recovery: [], restart: [], version: '', roundP50s: [], roundCpus: [] }]))
   for (let round = 0; round < rounds; round++) {
-    for (const driver of drivers) {
+    for (const driver of round % 2 === 0 ? drivers : [...drivers].reverse()) {
       const run = await runChild(driver, ['--child', 'commit', '--seconds', String(seconds)])
+      const back = await runChild(driver, ['--child', 'commit', '--seconds', String(seconds), '--paced', 'no'])
       const r = results.get(driver.name)
       r.latencies.push(...run.latencies)
-      r.cpuUs += run.cpuUs
-      r.drops += run.drops
+      r.cpuUs += back.cpuUs
+      r.drops += back.drops
       r.maxMerged = Math.max(r.maxMerged, run.maxMerged)
       r.version = run.sqliteVersion
       r.roundP50s.push(percentile(run.latencies, 0.5))
-      console.log(`  ${driver.name} round ${round + 1}: ${run.drops} drops committed, p50 ${percentile(run.latencies, 0.5).toFixed(2)} ms, p99 ${percentile(run.latencies, 0.99).toFixed(2)} ms`)
+      r.roundCpus.push(back.cpuUs / back.drops)
+      console.log(`  ${driver.name} round ${round + 1}: ${run.drops} drops committed, p50 ${percentile(run.latencies, 0.5).toFixed(2)} ms, p99 ${percentile(run.latencies, 0.99).toFixed(2)} ms; back to back ${(back.cpuUs / back.drops).toFixed(1)} µs CPU per drop`)
     }
   }
   for (let i = 0; i < restarts; i++) {
@@ -88,20 +94,20 @@ async function main () {
     `${name} (${r.version})`,
     percentile(r.latencies, 0.5).toFixed(2),
     percentile(r.latencies, 0.99).toFixed(2),
-    (r.cpuUs / r.drops).toFixed(1),
     String(r.maxMerged),
+    (r.cpuUs / r.drops).toFixed(1),
     median(r.recovery).toFixed(1),
     median(r.restart).toFixed(0)
   ])
   console.log()
-  const columns = ['driver (SQLite)', 'commit p50 ms', 'commit p99 ms', 'CPU µs / drop', 'most ticks merged', 'recovery after SIGKILL ms', 'restart to listening ms']
+  const columns = ['driver (SQLite)', 'commit p50 ms', 'commit p99 ms', 'most ticks merged', 'CPU µs / drop', 'recovery after SIGKILL ms', 'restart to listening ms']
   console.log(formatTable(columns.map((title, i) => ({ title, align: i === 0 ? 'left' : 'right' })), rows))
   console.log('(restarts: medians; commit: every tick of every round)')
   if (results.size === 2) {
     const [a, b] = [...results.values()]
     const ratio = (x, y) => `${((x / y - 1) * 100).toFixed(0)}%`
-    const paired = median(a.roundP50s.map((p50, i) => p50 / b.roundP50s[i]))
-    console.log(`node:sqlite / better-sqlite3 commit p50, round by round (each pair run back to back): median ${paired.toFixed(2)}`)
+    const paired = (x, y) => median(x.map((value, i) => value / y[i])).toFixed(2)
+    console.log(`node:sqlite / better-sqlite3, round by round (each pair run back to back, in alternating order), median of the ratios: commit p50 ${paired(a.roundP50s, b.roundP50s)}, CPU per drop ${paired(a.roundCpus, b.roundCpus)}`)
     console.log(`node:sqlite vs better-sqlite3: commit p50 ${ratio(percentile(a.latencies, 0.5), percentile(b.latencies, 0.5))}, p99 ${ratio(percentile(a.latencies, 0.99), percentile(b.latencies, 0.99))}, CPU/drop ${ratio(a.cpuUs / a.drops, b.cpuUs / b.drops)}, recovery ${ratio(median(a.recovery), median(b.recovery))}, restart ${ratio(median(a.restart), median(b.restart))} (positive: node:sqlite slower)`)
   }
 }
@@ -119,8 +125,14 @@ function runChild (driver, childArgs) {
   })
 }
 
-/** The group commit's write pattern on a fresh ledger; prints { latencies, cpuUs, drops, maxMerged, sqliteVersion }. */
-async function commitChild (seconds) {
+/**
+ * The group commit's write pattern on a fresh ledger; prints { latencies,
+ * cpuUs, drops, maxMerged, sqliteVersion }. Paced: on a 60 Hz clock, ticks
+ * merged while a commit runs (latency). Not paced: the same ticks back to
+ * back, each its own transaction, so the work per drop does not depend on
+ * how busy the machine is (CPU per drop).
+ */
+async function commitChild (seconds, paced) {
   const { SqliteStore } = await import('../server/store/sqlite-store.js')
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-sqlite-drivers-'))
   const store = new SqliteStore({ file: path.join(dir, 'ledger.sqlite') })
@@ -138,13 +150,14 @@ async function commitChild (seconds) {
     let committedDrops = 0
     let maxMerged = 0
     let cpuStart = null
+    let lastCommit = Promise.resolve()
 
     const send = () => {
       const { ends, batch } = open
       open = null
       writing = true
       maxMerged = Math.max(maxMerged, ends.length)
-      store.commitBatch(batch).then(() => {
+      lastCommit = store.commitBatch(batch).then(() => {
         const now = performance.now()
         if (measuring) {
           for (const end of ends) latencies.push(now - end)
@@ -186,9 +199,10 @@ async function commitChild (seconds) {
     const start = performance.now()
     for (let tick = 0; tick < ticks; tick++) {
       const wait = start + (tick + 1) * 1000 / TICK_HZ - performance.now()
-      if (wait > 0) await new Promise((resolve) => setTimeout(resolve, wait))
+      if (paced && wait > 0) await new Promise((resolve) => setTimeout(resolve, wait))
       if (tick === WARMUP_TICKS) { measuring = true; cpuStart = process.cpuUsage() }
       endTick(tick)
+      if (!paced) await lastCommit
     }
     while (writing || open) await new Promise((resolve) => setTimeout(resolve, 1))
     const cpu = process.cpuUsage(cpuStart)

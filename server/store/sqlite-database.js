@@ -6,8 +6,8 @@ import { DatabaseSync } from 'node:sqlite'
  * A connection to the ledger's SQLite file as every part of the store opens
  * it, on Node's own SQLite (`node:sqlite`, no native addon): WAL journal
  * with synchronous=FULL (a committed transaction survives a power cut),
- * foreign keys on, and a busy timeout, since the store's connection (reads,
- * migrations) and its writer thread's take turns.
+ * foreign keys on, a 16 MB page cache, and a busy timeout, since the
+ * store's connection (reads, migrations) and its writer thread's take turns.
  * @param {string} file path or ':memory:'
  * @param {{ busyTimeoutMs?: number }} [options] how long a write waits for another connection's lock (default 5 s)
  * @returns {DatabaseSync}
@@ -25,6 +25,11 @@ export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
     db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true })
     db.exec('PRAGMA journal_mode = WAL')
     db.exec('PRAGMA synchronous = FULL')
+    // Node's SQLite is built with a 2 MB page cache; the ledger's indexes
+    // (drops by player, time, room) outgrow it within minutes of play, and
+    // every commit then re-reads their pages: 16 MB per connection, as
+    // better-sqlite3 had (see docs/troubleshooting.md, the driver figures).
+    db.exec('PRAGMA cache_size = -16000')
   } catch (error) {
     db?.close()
     throw cannotOpen(file, withSqliteCode(error))
