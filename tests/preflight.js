@@ -68,7 +68,7 @@ export function missingPrograms (run, env = process.env, { postgresRoot = '/usr/
   const packages = [...new Set(missing.map(([, pkg]) => pkg))]
   const sudo = process.getuid?.() === 0 ? '' : 'sudo '
   return `${run === 'e2e' ? 'npm run test:e2e' : 'npm test'} needs ${missing.map(([program]) => program).join(', ')} ` +
-    '(the tests start real ones), not found on PATH. Install them with:\n\n' +
+    '(the tests start real ones), not found. Install them with:\n\n' +
     `  ${sudo}apt-get install -y ${packages.join(' ')}\n\n` +
     '(Debian, Ubuntu; elsewhere, the same programs from your system\'s packages: see docs/tests.md.)'
 }
