@@ -126,6 +126,36 @@ function runChild (driver, childArgs) {
 }
 
 /**
+ * One tick's rows at the capacity run's write rate: the drops released in
+ * it, the settlements of those released FLIGHT_TICKS before, their nonces
+ * and the net balance change per player.
+ * @param {object} batch @param {number} tick
+ * @param {{ nonces: number[], flying: Map<number, { id: number, playerId: string }[]>, nextDropId: number, due: number }} load
+ */
+function addTickRows (batch, tick, load) {
+  const deltas = new Map()
+  load.due += DROPS_PER_SECOND / TICK_HZ
+  const released = []
+  for (; load.due >= 1; load.due--) {
+    const id = load.nextDropId++
+    const p = id % PLAYERS
+    const nonce = load.nonces[p]++
+    batch.drops.push({ id, playerId: `p${p}`, room: `16-high-${p % 100}`, rows: 16, risk: 'high', engineVersion: '2.0.0', serverSeedId: `s${p}`, serverSeedHash: 'b'.repeat(64), clientSeed: 'client', nonce, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: tick, createdAt: Date.now() })
+    batch.nonces.push({ seedId: `s${p}`, nextNonce: nonce + 1 })
+    deltas.set(`p${p}`, (deltas.get(`p${p}`) ?? 0) - 10000)
+    released.push({ id, playerId: `p${p}` })
+  }
+  load.flying.set(tick, released)
+  for (const drop of load.flying.get(tick - FLIGHT_TICKS) ?? []) {
+    batch.settlements.push({ id: drop.id, bucket: 8, multiplier: 0.2, payout: 2000, ticks: FLIGHT_TICKS, stateHash: '0'.repeat(16), settledAt: Date.now() })
+    deltas.set(drop.playerId, (deltas.get(drop.playerId) ?? 0) + 2000)
+  }
+  load.flying.delete(tick - FLIGHT_TICKS)
+  for (const [playerId, delta] of deltas) batch.balances.push({ playerId, delta })
+  batch.players.push(...deltas.keys())
+}
+
+/**
  * The group commit's write pattern on a fresh ledger; prints { latencies,
  * cpuUs, drops, maxMerged, sqliteVersion }. Paced: on a 60 Hz clock, ticks
  * merged while a commit runs (latency). Not paced: the same ticks back to
@@ -139,11 +169,8 @@ async function commitChild (seconds, paced) {
   try {
     await store.migrate()
     addPlayers(store.db)
-    const nonces = new Array(PLAYERS).fill(0)
-    const flying = new Map() // tick → the drops it released
+    const load = { nonces: new Array(PLAYERS).fill(0), flying: new Map(), nextDropId: 1, due: 0 }
     const latencies = []
-    let nextDropId = 1
-    let due = 0
     let open = null // ticks waiting for the commit in progress: { ends: number[], batch }
     let writing = false
     let measuring = false
@@ -170,26 +197,7 @@ async function commitChild (seconds, paced) {
 
     const endTick = (tick) => {
       const batch = open?.batch ?? { drops: [], settlements: [], balances: [], nonces: [], clientSeeds: [], players: [] }
-      const deltas = new Map()
-      due += DROPS_PER_SECOND / TICK_HZ
-      const released = []
-      for (; due >= 1; due--) {
-        const id = nextDropId++
-        const p = id % PLAYERS
-        const nonce = nonces[p]++
-        batch.drops.push({ id, playerId: `p${p}`, room: `16-high-${p % 100}`, rows: 16, risk: 'high', engineVersion: '2.0.0', serverSeedId: `s${p}`, serverSeedHash: 'b'.repeat(64), clientSeed: 'client', nonce, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: tick, createdAt: Date.now() })
-        batch.nonces.push({ seedId: `s${p}`, nextNonce: nonce + 1 })
-        deltas.set(`p${p}`, (deltas.get(`p${p}`) ?? 0) - 10000)
-        released.push({ id, playerId: `p${p}` })
-      }
-      flying.set(tick, released)
-      for (const drop of flying.get(tick - FLIGHT_TICKS) ?? []) {
-        batch.settlements.push({ id: drop.id, bucket: 8, multiplier: 0.2, payout: 2000, ticks: FLIGHT_TICKS, stateHash: '0'.repeat(16), settledAt: Date.now() })
-        deltas.set(drop.playerId, (deltas.get(drop.playerId) ?? 0) + 2000)
-      }
-      flying.delete(tick - FLIGHT_TICKS)
-      for (const [playerId, delta] of deltas) batch.balances.push({ playerId, delta })
-      batch.players.push(...deltas.keys())
+      addTickRows(batch, tick, load)
       open = { ends: [...(open?.ends ?? []), performance.now()], batch }
       if (!writing) send()
     }

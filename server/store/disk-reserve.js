@@ -67,6 +67,11 @@ export class DiskReserve {
     this._restoring = this._write().finally(() => { this._restoring = null })
   }
 
+  /** Waits for a restore in progress (the store's close: nothing of the ledger's stays open after it). */
+  async idle () {
+    await this._restoring
+  }
+
   async _write () {
     const temp = `${this.file}.new`
     try {

@@ -149,6 +149,7 @@ export class SqliteStore {
 
   async close () {
     await this._writer?.close()
+    await this.reserve?.idle()
     if (this.db.isOpen) this.db.close()
   }
 }

@@ -10,8 +10,8 @@ import { startServerProcess } from './helpers/server-process.js'
 /**
  * The SQLite ledger in a directory the server cannot write (a read-only
  * volume, wrong owner): the server does not start, exits 1 with one line
- * naming the file and what SQLite needs (the file and, for the WAL journal,
- * its directory writable), and the ledger is untouched: once the directory
+ * naming the directory, the cause and what SQLite keeps there (the file and,
+ * for the WAL journal, its -wal and -shm), and the ledger is untouched: once the directory
  * is writable again the same ledger opens with everything in it.
  *
  * A read-only directory is made with chmod where that binds (not root), or
@@ -79,8 +79,11 @@ describe.skipIf(!possible)('SQLite ledger in a read-only directory (needs a non-
       expect(exit).toEqual({ code: 1, signal: null })
       const lines = output.trim().split('\n').filter((line) => !line.includes('OPERATOR_TOKEN not set'))
       expect(lines).toHaveLength(1)
-      expect(lines[0]).toContain(`plinko server failed to start: cannot open the SQLite ledger ${ledger}: `)
-      expect(lines[0]).toContain(`create files in ${dir}`)
+      // The data directory's check (server/store/data-directory.js) names it before SQLite is asked.
+      expect(lines[0]).toMatch(/^plinko server failed to start: /)
+      expect(lines[0]).toContain(`the data directory ${dir} `)
+      expect(lines[0]).toMatch(/is on a read-only file system|is not writable by this process/)
+      expect(lines[0]).toContain(`SQLite keeps ${path.basename(ledger)} and its -wal and -shm files there`)
     }
     expect(fs.existsSync(path.join(dir, 'new.sqlite'))).toBe(false)
 
