@@ -9,6 +9,16 @@
 /** Client seeds: 1 to 64 printable ASCII characters (space to tilde). */
 export const CLIENT_SEED_PATTERN = '^[\\x20-\\x7e]{1,64}$'
 
+/**
+ * How a socket in a room learns what happens in it, chosen in `join`:
+ * "snapshots" (the default) gets the balls' positions 1–60 times a second
+ * (protocol/snapshot-codec.js); "seeds" gets only the drops, as binary
+ * events, and simulates the balls itself (protocol/drop-events-codec.js).
+ * Any other value is refused with E_BAD_DELIVERY.
+ */
+export const DELIVERY_MODES = Object.freeze(['snapshots', 'seeds'])
+export const DEFAULT_DELIVERY = 'snapshots'
+
 const ref = { anyOf: [{ type: 'string', maxLength: 64 }, { type: 'integer' }] }
 
 /**
@@ -23,7 +33,7 @@ export function clientMessageSchemas ({ minBet, maxBet }) {
     additionalProperties: false
   })
   return {
-    join: message('join', { room: { type: 'string', maxLength: 32 } }, ['room']),
+    join: message('join', { room: { type: 'string', maxLength: 32 }, delivery: { enum: DELIVERY_MODES } }, ['room']),
     leave: message('leave'),
     drop: message('drop', {
       bet: { type: 'integer', minimum: minBet, maximum: maxBet },

@@ -16,6 +16,7 @@ export const ERROR_CODES = Object.freeze({
   E_BAD_SEED: { status: 400, message: 'client seed must be 1 to 64 printable ASCII characters' },
   E_INSUFFICIENT_FUNDS: { status: 400, message: 'balance is lower than the bet' },
   E_UNKNOWN_ENGINE_VERSION: { status: 400, message: 'no such engine version on this server' },
+  E_BAD_DELIVERY: { status: 400, message: 'join.delivery must be "seeds" or "snapshots" (the default)' },
   E_NOT_IN_ROOM: { status: 400, message: 'join a room first' },
   E_UNKNOWN_ROOM: { status: 404, message: 'no such room; room ids are ROWS-RISK or ROWS-RISK.N with rows 8..16, risk low, medium or high and N 2..8' },
   E_ROOM_FULL: { status: 409, message: 'too many balls in flight in this room; try again shortly' },

@@ -5,7 +5,7 @@ import { gameError } from '../errors.js'
 export { clientMessageSchemas }
 
 /** Which error code a schema failure on a given field is reported as. */
-const FIELD_CODES = { '/bet': 'E_BAD_BET', '/clientSeed': 'E_BAD_SEED', '/room': 'E_UNKNOWN_ROOM' }
+const FIELD_CODES = { '/bet': 'E_BAD_BET', '/clientSeed': 'E_BAD_SEED', '/room': 'E_UNKNOWN_ROOM', '/delivery': 'E_BAD_DELIVERY' }
 
 /**
  * Compiles the schemas once; the returned function parses a text frame and

@@ -57,6 +57,9 @@ describe.each(STORE_KINDS)('error codes on %s', (kind) => {
     expectWsError(await client.expectError({ type: 'leave' }), 'E_NOT_IN_ROOM')
     expectWsError(await client.expectError({ type: 'join', room: '17-medium' }), 'E_UNKNOWN_ROOM')
     expectWsError(await client.expectError({ type: 'join', room: 'lobby' }), 'E_UNKNOWN_ROOM')
+    const badDelivery = await client.expectError({ type: 'join', room: '13-low', delivery: 'positions', ref: 'd1' })
+    expectWsError(badDelivery, 'E_BAD_DELIVERY')
+    expect(badDelivery.ref).toBe('d1')
 
     client.send({ type: 'join', room: '13-low' })
     await client.take('joined')

@@ -1,0 +1,213 @@
+import { ENGINE_VERSIONS } from '../engine/version.js'
+import { StateHasher } from '../engine/state-hasher.js'
+
+/**
+ * The binary frame of the `seeds` delivery mode, one module for the server
+ * (which encodes it) and the browser and load tools (which decode it):
+ * served to the page at /protocol/ as it is in the repository.
+ *
+ * A socket that joined with `delivery: "seeds"` gets no position frames: the
+ * page simulates every ball itself from its drop seed (the engine gives the
+ * same bits everywhere). Besides its own JSON replies it gets one kind of
+ * binary frame, the drop-events frame, built once per room and sent as the
+ * same bytes to every seeds socket in it:
+ *
+ * - at most every EVENT_EVERY ticks (joined.eventEvery = 60 / EVENT_HZ), with
+ *   the drops announced in the room since the previous frame, oldest first;
+ * - or, when no drop was announced, at most every CHECK_EVERY ticks
+ *   (joined.checkEvery, 2 s) while balls are in flight, with no events: a
+ *   desync check alone.
+ * A room with nothing new and no ball in flight sends nothing.
+ *
+ * Little-endian throughout:
+ *
+ *   offset  size   field
+ *   0       1      kind = 3 (DROP_EVENTS_KIND)
+ *   1       4      tick, uint32: the room tick this frame was built at (after that tick's step)
+ *   5       4      hash word 1, uint32 } the flight hash at `tick` (below); as text, the 16 hex
+ *   9       4      hash word 2, uint32 } digits hex8(word 1) + hex8(word 2)
+ *   13      2      N, uint16: number of events
+ *   15      64·N   the events, oldest first
+ *
+ * One event (64 bytes), another player's drop as `dropped` announces it:
+ *
+ *   offset  size   field
+ *   0       8      dropId, uint64 (below 2^53)
+ *   8       8      bet, uint64 (below 2^53), whole credits
+ *   16      4      startTick, uint32: the room tick at which the ball was released
+ *   20      2      slot, uint16: the ball's small per-room number (as in snapshots and `joined`)
+ *   22      1      engine, uint8: index of the drop's engine version in ENGINE_VERSIONS
+ *                  (oldest first, append-only; also sent as joined.engineVersions)
+ *   23      1      flags: bit 0 set = the player id is not 16 hex digits and the tag is zero
+ *   24      8      player tag: the player id's 16 hex digits as 8 bytes, in order
+ *   32      32     dropSeed: its 64 hex digits as 32 bytes, in order
+ *
+ * A ball of startTick s is at the state the engine reaches after (t − s)
+ * steps of a DropSimulator into which it was added alone: balls do not
+ * collide, so a drop's path depends on its seed and the board only. The
+ * full facts for verifying it (server seed hash, client seed, nonce, and
+ * once landed the bucket, payout and state hash) are public at
+ * GET /api/public/drops/:dropId.
+ *
+ * Flight hash: the balls in flight at `tick` that the room has announced
+ * (every one was named in `joined.balls`, a `dropped` reply or an event
+ * frame no later than this frame), in ascending slot order, hashed with the
+ * engine's StateHasher (engine/state-hasher.js, 64-bit, over exact IEEE-754
+ * bits):
+ *
+ *   reset(); addInt32(tick)
+ *   for each ball, slots ascending:
+ *     addInt32(slot); addFloat64(x); addFloat64(y); addFloat64(vx); addFloat64(vy)
+ *   digestHex()
+ *
+ * A ball that landed in a step up to `tick` is not in flight (the engine
+ * destroys it in the step it lands). FlightHasher below does exactly this.
+ * A page whose own hash differs has desynchronised: it switches the room to
+ * snapshots (join again with delivery "snapshots") and reports it.
+ *
+ * A batch may name a drop the receiver already knows (from `joined.balls`
+ * just before it, or its own `dropped` reply): match on dropId and skip it.
+ */
+export const DROP_EVENTS_KIND = 3
+export const DROP_EVENT_BYTES = 64
+export const DROP_EVENTS_HEADER_BYTES = 15
+export const MAX_EVENTS_PER_FRAME = 0xffff
+const FLAG_PLAYER_NOT_HEX = 1
+
+const HEX16 = /^[0-9a-f]{16}$/
+const HEX64 = /^[0-9a-f]{64}$/
+
+/**
+ * @typedef {object} DropEvent
+ * @property {number} dropId @property {number} bet whole credits
+ * @property {number} startTick @property {number} slot
+ * @property {string} engineVersion @property {string} player 16 hex digits, or '' (flag bit 0)
+ * @property {string} dropSeed 64 hex digits
+ */
+
+/**
+ * @typedef {object} DropEventsFrame
+ * @property {number} tick @property {string} hash 16 hex digits (FlightHasher)
+ * @property {DropEvent[]} events
+ */
+
+/**
+ * @param {number} tick
+ * @param {string} hash 16 hex digits, from FlightHasher.digest()
+ * @param {ArrayLike<{ id: number, bet: number, startTick: number, slot: number, engineVersion: string, playerId: string, dropSeed: string }>} drops oldest first
+ * @returns {Uint8Array}
+ */
+export function encodeDropEvents (tick, hash, drops) {
+  if (drops.length > MAX_EVENTS_PER_FRAME) throw new RangeError('too many events for one frame')
+  if (!HEX16.test(hash)) throw new RangeError('the flight hash must be 16 hex digits')
+  const bytes = new Uint8Array(DROP_EVENTS_HEADER_BYTES + DROP_EVENT_BYTES * drops.length)
+  const view = new DataView(bytes.buffer)
+  bytes[0] = DROP_EVENTS_KIND
+  view.setUint32(1, tick >>> 0, true)
+  view.setUint32(5, parseInt(hash.slice(0, 8), 16), true)
+  view.setUint32(9, parseInt(hash.slice(8, 16), 16), true)
+  view.setUint16(13, drops.length, true)
+  for (let i = 0; i < drops.length; i++) {
+    const drop = drops[i]
+    const at = DROP_EVENTS_HEADER_BYTES + i * DROP_EVENT_BYTES
+    const engine = ENGINE_VERSIONS.indexOf(drop.engineVersion)
+    if (engine < 0) throw new RangeError(`unknown engine version ${drop.engineVersion}`)
+    if (!HEX64.test(drop.dropSeed)) throw new RangeError('a drop seed must be 64 hex digits')
+    if (drop.slot > 0xffff) throw new RangeError('slot above 65535')
+    setUint53(view, at, drop.id)
+    setUint53(view, at + 8, drop.bet)
+    view.setUint32(at + 16, drop.startTick >>> 0, true)
+    view.setUint16(at + 20, drop.slot, true)
+    bytes[at + 22] = engine
+    if (HEX16.test(drop.playerId)) writeHex(bytes, at + 24, drop.playerId)
+    else bytes[at + 23] = FLAG_PLAYER_NOT_HEX
+    writeHex(bytes, at + 32, drop.dropSeed)
+  }
+  return bytes
+}
+
+/**
+ * Decodes a drop-events frame; null for a frame of another kind, a
+ * truncated one or one naming an engine version this module does not know.
+ * @param {Uint8Array | ArrayBuffer} frame
+ * @returns {DropEventsFrame | null}
+ */
+export function decodeDropEvents (frame) {
+  const bytes = frame instanceof Uint8Array ? frame : new Uint8Array(frame)
+  if (bytes.byteLength < DROP_EVENTS_HEADER_BYTES || bytes[0] !== DROP_EVENTS_KIND) return null
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength)
+  const count = view.getUint16(13, true)
+  if (bytes.byteLength < DROP_EVENTS_HEADER_BYTES + count * DROP_EVENT_BYTES) return null
+  const events = new Array(count)
+  for (let i = 0; i < count; i++) {
+    const at = DROP_EVENTS_HEADER_BYTES + i * DROP_EVENT_BYTES
+    const engineVersion = ENGINE_VERSIONS[bytes[at + 22]]
+    if (engineVersion === undefined) return null
+    events[i] = {
+      dropId: getUint53(view, at),
+      bet: getUint53(view, at + 8),
+      startTick: view.getUint32(at + 16, true),
+      slot: view.getUint16(at + 20, true),
+      engineVersion,
+      player: (bytes[at + 23] & FLAG_PLAYER_NOT_HEX) === 0 ? readHex(bytes, at + 24, 8) : '',
+      dropSeed: readHex(bytes, at + 32, 32)
+    }
+  }
+  return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events }
+}
+
+/**
+ * The flight hash of the header comment: begin(tick), add() each ball in
+ * ascending slot order, digest(). One instance is reused; adding allocates
+ * nothing.
+ */
+export class FlightHasher {
+  constructor () {
+    this._hasher = new StateHasher()
+    this._lastSlot = -1
+  }
+
+  /** @param {number} tick the room tick the states belong to */
+  begin (tick) {
+    this._hasher.reset().addInt32(tick)
+    this._lastSlot = -1
+    return this
+  }
+
+  /** @param {number} slot @param {number} x @param {number} y @param {number} vx @param {number} vy */
+  add (slot, x, y, vx, vy) {
+    if (slot <= this._lastSlot) throw new RangeError('balls must be added in ascending slot order')
+    this._lastSlot = slot
+    this._hasher.addInt32(slot).addFloat64(x).addFloat64(y).addFloat64(vx).addFloat64(vy)
+    return this
+  }
+
+  /** @returns {string} 16 hex digits */
+  digest () {
+    return this._hasher.digestHex()
+  }
+}
+
+function setUint53 (view, at, value) {
+  if (!Number.isSafeInteger(value) || value < 0) throw new RangeError(`${value} is not an integer from 0 to 2^53 - 1`)
+  view.setUint32(at, value % 0x100000000, true)
+  view.setUint32(at + 4, Math.floor(value / 0x100000000), true)
+}
+
+function getUint53 (view, at) {
+  return view.getUint32(at + 4, true) * 0x100000000 + view.getUint32(at, true)
+}
+
+function writeHex (bytes, at, hex) {
+  for (let i = 0; i < hex.length; i += 2) bytes[at + (i >> 1)] = parseInt(hex.slice(i, i + 2), 16)
+}
+
+function readHex (bytes, at, length) {
+  let text = ''
+  for (let i = at; i < at + length; i++) text += (bytes[i] < 16 ? '0' : '') + bytes[i].toString(16)
+  return text
+}
+
+function hex8 (n) {
+  return n.toString(16).padStart(8, '0')
+}
