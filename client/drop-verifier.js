@@ -67,10 +67,15 @@ export class DropVerifier {
    */
   simulate (announced, { rows, risk }, playerId) {
     const known = this.pending.get(announced.dropId)
-    if (known) return known
+    if (known && known.trajectory) return known
     const engineVersion = announced.engineVersion ?? ENGINE_VERSION
     const board = this.board(rows, risk, engineVersion)
     const outcome = simulateDrop(board, announced.dropSeed, { trajectory: true })
+    if (known) {
+      // Expected in seeds mode, now shown from snapshots (the room was switched): the whole path is needed at once.
+      Object.assign(known, { bucket: outcome.bucket, ticks: outcome.ticks, stateHash: outcome.stateHash, trajectory: outcome.trajectory })
+      return known
+    }
     /** @type {LocalDrop} */
     const local = {
       dropId: announced.dropId,

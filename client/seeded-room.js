@@ -34,6 +34,7 @@ const STALE_EVENT_TICKS = 4
 const POSE = 3
 const VELOCITY = 2
 const FIRST_CAPACITY = 256
+const MAX_SEEN = 10_000
 const TWO_PI = 2 * Math.PI
 
 /**
@@ -88,6 +89,10 @@ export class SeededRoom {
     this._posePool = []
     this._out = new Float64Array(3)
     this._hasher = new FlightHasher()
+    /** Drop ids put on the board (a batch may name one again), the latest MAX_SEEN. */
+    this._seen = new Set()
+    /** Balls in the last flight hash. */
+    this.hashedBalls = 0
   }
 
   /** The player's own balls not landed yet at the last rendered tick. */
@@ -100,9 +105,9 @@ export class SeededRoom {
     return count
   }
 
-  /** @param {number} dropId */
+  /** Whether this drop was put on the board (still there, or landed and gone). @param {number} dropId */
   has (dropId) {
-    return this.drops.has(dropId)
+    return this._seen.has(dropId)
   }
 
   /**
@@ -111,7 +116,9 @@ export class SeededRoom {
    * @param {import('./drop-verifier.js').LocalDrop} drop
    */
   add (drop) {
-    if (this.drops.has(drop.dropId)) return
+    if (this._seen.has(drop.dropId)) return
+    this._seen.add(drop.dropId)
+    if (this._seen.size > MAX_SEEN) this._seen.delete(this._seen.values().next().value)
     const board = this.boardFor(drop.engineVersion)
     const simulator = this._simulator(board)
     const body = simulator.addDrop(drop.dropSeed, drop)
@@ -203,6 +210,7 @@ export class SeededRoom {
       inFlight.push(flight)
     }
     inFlight.sort((p, q) => p.drop.slot - q.drop.slot)
+    this.hashedBalls = inFlight.length
     const hasher = this._hasher.begin(tick)
     for (const flight of inFlight) {
       const age = tick - flight.drop.startTick
@@ -216,14 +224,14 @@ export class SeededRoom {
   /**
    * Compares the server's flight hash at `tick` with this page's.
    * @param {number} tick @param {string} hash
-   * @returns {{ ok: boolean, tick: number, server: string, local: string }}
+   * @returns {{ ok: boolean, tick: number, server: string, local: string, balls: number }}
    */
   check (tick, hash) {
     const local = this.flightHash(tick)
     this.stats.checks++
     const ok = local === hash
     if (!ok) this.stats.mismatches++
-    return { ok, tick, server: hash, local }
+    return { ok, tick, server: hash, local, balls: this.hashedBalls }
   }
 
   /** Engine state of a drop's ball after `steps` steps, for tests: { x, y, angle } or null if not simulated that far. */
