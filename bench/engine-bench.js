@@ -28,7 +28,7 @@ import { OursScene, OursServerScene } from './scene-ours.js'
 import { MatterScene, MATTER_WALL_THICKNESS } from './scene-matter.js'
 import { PlanckScene, PLANCK_VELOCITY_ITERATIONS, PLANCK_POSITION_ITERATIONS } from './scene-planck.js'
 import { timeStepsInterleaved, summarize, timeMs, findGc, heapGrowth } from './measure.js'
-import { formatTable, int, fixed, ratio, bytes } from './table.js'
+import { formatTable, int, fixed, ratio, bytes } from '../cli/text-table.js'
 import { mixFriction, mixRestitution } from '../engine/materials.js'
 
 export const GOALS = Object.freeze({ vsMatter: 20, vsPlanck: 5, dropsPerSecond: 30000 })

@@ -17,7 +17,7 @@
 import { ENGINE_VERSIONS, MIN_ROWS, MAX_ROWS, RISKS, createBoard, rtpStatistics, calibrationOf } from '../engine/index.js'
 import { simulateBatch } from '../cli/simulate-batch.js'
 import { binomialDistribution, totalVariation, edgeProbability } from '../cli/distribution-statistics.js'
-import { formatTable, int, fixed } from './table.js'
+import { formatTable, int, fixed } from '../cli/text-table.js'
 
 /** Stake's Plinko, 16 rows, high risk (published table), on Binomial(16, ½): the reference column. */
 export const STAKE_16_HIGH = Object.freeze([1000, 130, 26, 9, 4, 2, 0.2, 0.2, 0.2, 0.2, 0.2, 2, 4, 9, 26, 130, 1000])

@@ -16,7 +16,7 @@ import WebSocket from 'ws'
 import { buildApp } from '../server/app.js'
 import { withBenchLedger } from './temp-ledger.js'
 import { decodeSnapshot, splitRoomFrame } from '../protocol/snapshot-codec.js'
-import { formatTable, fixed, int } from './table.js'
+import { formatTable, fixed, int } from '../cli/text-table.js'
 
 const BALLS = 50
 const ROOM = '16-medium'

@@ -31,7 +31,7 @@ import { Room } from '../server/rooms/room.js'
 import { boardOf } from '../server/rooms/boards.js'
 import { deriveDropSeed } from '../server/fairness/seeds.js'
 import { summarize } from './measure.js'
-import { formatTable, fixed, int, bytes } from './table.js'
+import { formatTable, fixed, int, bytes } from '../cli/text-table.js'
 
 const ROOMS = 1000
 const BALLS_PER_ROOM = 10

@@ -31,7 +31,7 @@ import { fileURLToPath } from 'node:url'
 import { parseArgs } from 'node:util'
 import { formatLeanSummary } from '../loadtest/lean/lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from '../loadtest/lean/measure-server.js'
-import { formatTable, fixed } from './table.js'
+import { formatTable, fixed } from '../cli/text-table.js'
 
 const GOAL_RATIO = 1.5
 

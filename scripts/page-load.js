@@ -17,7 +17,7 @@ import { parseArgs } from 'node:util'
 import { chromium } from 'playwright-core'
 import { startServerProcess } from '../tools/server-process.js'
 import { LIFTED_LIMITS } from '../tools/lifted-limits.js'
-import { CHROMIUM_PATH, CHROMIUM_ARGS } from '../tests/e2e/helpers/browser.js'
+import { CHROMIUM_PATH, CHROMIUM_ARGS } from '../tools/chromium.js'
 
 const { values } = parseArgs({ options: { runs: { type: 'string', default: '3' } } })
 const RUNS = Number(values.runs)

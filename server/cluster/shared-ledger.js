@@ -1,7 +1,7 @@
 import { PostgresStore, columns, insertInFlightDrops } from '../store/postgres-store.js'
 import { gameError } from '../errors.js'
 import { toDropRecord } from '../store/records.js'
-import { betCost } from '../game/money.js'
+import { betTotals, payoutTotals } from '../game/money.js'
 
 /** Nonces reserved per (process, seed) at a time; a reservation is never given back. */
 export const NONCE_BLOCK = 100
@@ -28,12 +28,12 @@ export const DROP_ID_BLOCK = 10_000
  *
  * `commitBatch` also returns every touched player's balance as committed,
  * which the arena shows instead of its cached one.
+ * @implements {import('../store/ledger-store.js').LedgerStore}
  */
 export class SharedLedgerStore extends PostgresStore {
   /** @param {{ url: string, poolSize?: number, nonceBlock?: number, dropIdBlock?: number }} options */
   constructor ({ nonceBlock = NONCE_BLOCK, dropIdBlock = DROP_ID_BLOCK, ...options }) {
     super(options)
-    this.shared = true
     this.nonceBlock = nonceBlock
     this.dropIdBlock = dropIdBlock
     /** @type {Map<string, { end: number, next: { start: number, end: number } | null, refilling: Promise<void> | null }>} by seed id */
@@ -184,75 +184,103 @@ export class SharedLedgerStore extends PostgresStore {
    */
   async commitBatch (batch) {
     return this._transaction(async (client) => {
-      const rejected = new Map()
       const players = new Set(batch.players)
-      let drops = batch.drops
-      // Row locks in one global order (settled drops by id, then players by id), so two
-      // processes' batches wait for each other instead of deadlocking.
-      const settlingIds = batch.settlements.map((s) => s.id)
-      if (settlingIds.length > 0) await client.query('SELECT id FROM drops WHERE id = ANY($1::bigint[]) ORDER BY id FOR UPDATE', [settlingIds])
-      await client.query(`SELECT id FROM players WHERE id = ANY($1::text[])
-          OR id IN (SELECT player_id FROM drops WHERE id = ANY($2::bigint[])) ORDER BY id FOR UPDATE`,
-      [[...new Set(drops.map((d) => d.playerId))], settlingIds])
-      if (drops.length > 0) {
-        for (const drop of drops) players.add(drop.playerId)
-        const seedIds = [...new Set(drops.map((d) => d.serverSeedId))]
-        const { rows: active } = await client.query('SELECT id FROM server_seeds WHERE id = ANY($1::text[]) AND active = 1 FOR SHARE', [seedIds])
-        const activeIds = new Set(active.map((r) => r.id))
-        for (const drop of drops) if (!activeIds.has(drop.serverSeedId)) rejected.set(drop.id, 'E_SEED_ROTATED')
-        drops = drops.filter((d) => !rejected.has(d.id))
-        const totals = new Map()
-        for (const drop of drops) totals.set(drop.playerId, (totals.get(drop.playerId) ?? 0) + betCost(drop.bet))
-        if (totals.size > 0) {
-          const { rows: debited } = await client.query(`UPDATE players AS p SET balance = p.balance - b.total
-            FROM unnest($1::text[], $2::bigint[]) AS b (id, total) WHERE p.id = b.id AND p.balance >= b.total RETURNING p.id`,
-          [[...totals.keys()], [...totals.values()]])
-          const paid = new Set(debited.map((r) => r.id))
-          for (const drop of drops) if (!paid.has(drop.playerId)) rejected.set(drop.id, 'E_INSUFFICIENT_FUNDS')
-          drops = drops.filter((d) => !rejected.has(d.id))
-        }
-        if (drops.length > 0) {
-          await insertInFlightDrops(client, drops)
-        }
-      }
-      const settled = new Set()
-      if (batch.settlements.length > 0) {
-        const { rows } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
-            multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
-          FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
-            AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
-          WHERE d.id = s.id AND d.status = 'in_flight'
-          RETURNING d.id, d.player_id, s.payout`,
-        columns(batch.settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
-        const credits = new Map()
-        for (const row of rows) {
-          settled.add(Number(row.id))
-          players.add(row.player_id)
-          if (Number(row.payout) > 0) credits.set(row.player_id, (credits.get(row.player_id) ?? 0) + Number(row.payout))
-        }
-        if (credits.size > 0) {
-          await client.query(`UPDATE players AS p SET balance = p.balance + c.amount
-            FROM unnest($1::text[], $2::bigint[]) AS c (id, amount) WHERE p.id = c.id`,
-          [[...credits.keys()], [...credits.values()]])
-        }
-      }
+      await lockBatchRows(client, batch)
+      const { accepted, rejected } = await recordDropsIfPaid(client, batch.drops)
+      for (const drop of batch.drops) players.add(drop.playerId)
+      const settled = await settleInFlight(client, batch.settlements, players)
       // A client seed set by a refused drop is not kept (the arena puts the old one back too).
-      const accepted = new Set(drops.map((d) => d.playerId))
+      const acceptedPlayers = new Set(accepted.map((d) => d.playerId))
       const dropPlayers = new Set(batch.drops.map((d) => d.playerId))
-      const clientSeeds = batch.clientSeeds.filter((c) => !dropPlayers.has(c.playerId) || accepted.has(c.playerId))
+      const clientSeeds = batch.clientSeeds.filter((c) => !dropPlayers.has(c.playerId) || acceptedPlayers.has(c.playerId))
       if (clientSeeds.length > 0) {
         await client.query(`UPDATE players AS p SET client_seed = c.client_seed
           FROM unnest($1::text[], $2::text[]) AS c (id, client_seed) WHERE p.id = c.id`,
         columns(clientSeeds, ['playerId', 'clientSeed']))
       }
-      const balances = new Map()
-      if (players.size > 0) {
-        const { rows } = await client.query('SELECT id, balance FROM players WHERE id = ANY($1::text[])', [[...players]])
-        for (const row of rows) balances.set(row.id, Number(row.balance))
-      }
-      return { rejected, settled, balances }
+      return { rejected, settled, balances: await committedBalances(client, players) }
     })
   }
+}
+
+/**
+ * Row locks in one global order (settled drops by id, then players by id), so
+ * two processes' batches wait for each other instead of deadlocking.
+ * @param {import('pg').PoolClient} client @param {import('../store/records.js').LedgerBatch} batch
+ */
+async function lockBatchRows (client, batch) {
+  const settlingIds = batch.settlements.map((s) => s.id)
+  if (settlingIds.length > 0) await client.query('SELECT id FROM drops WHERE id = ANY($1::bigint[]) ORDER BY id FOR UPDATE', [settlingIds])
+  await client.query(`SELECT id FROM players WHERE id = ANY($1::text[])
+      OR id IN (SELECT player_id FROM drops WHERE id = ANY($2::bigint[])) ORDER BY id FOR UPDATE`,
+  [[...new Set(batch.drops.map((d) => d.playerId))], settlingIds])
+}
+
+/**
+ * Records the drops whose seed is still active (locked FOR SHARE against a
+ * concurrent rotation) and whose player can pay for all of them: the debit is
+ * conditional (`balance >= bets`). The rest are refused, nothing written.
+ * @param {import('pg').PoolClient} client @param {import('../store/records.js').NewDropRow[]} drops
+ * @returns {Promise<{ accepted: import('../store/records.js').NewDropRow[], rejected: Map<number, string> }>}
+ */
+async function recordDropsIfPaid (client, drops) {
+  const rejected = new Map()
+  if (drops.length === 0) return { accepted: drops, rejected }
+  const seedIds = [...new Set(drops.map((d) => d.serverSeedId))]
+  const { rows: active } = await client.query('SELECT id FROM server_seeds WHERE id = ANY($1::text[]) AND active = 1 FOR SHARE', [seedIds])
+  const activeIds = new Set(active.map((r) => r.id))
+  for (const drop of drops) if (!activeIds.has(drop.serverSeedId)) rejected.set(drop.id, 'E_SEED_ROTATED')
+  let accepted = drops.filter((d) => !rejected.has(d.id))
+  const totals = betTotals(accepted)
+  if (totals.size > 0) {
+    const { rows: debited } = await client.query(`UPDATE players AS p SET balance = p.balance - b.total
+      FROM unnest($1::text[], $2::bigint[]) AS b (id, total) WHERE p.id = b.id AND p.balance >= b.total RETURNING p.id`,
+    [[...totals.keys()], [...totals.values()]])
+    const paid = new Set(debited.map((r) => r.id))
+    for (const drop of accepted) if (!paid.has(drop.playerId)) rejected.set(drop.id, 'E_INSUFFICIENT_FUNDS')
+    accepted = accepted.filter((d) => !rejected.has(d.id))
+  }
+  if (accepted.length > 0) await insertInFlightDrops(client, accepted)
+  return { accepted, rejected }
+}
+
+/**
+ * Settles the drops still in flight (`WHERE status = 'in_flight' RETURNING`)
+ * and credits only those: two processes can never settle one drop twice.
+ * @param {import('pg').PoolClient} client @param {import('../store/records.js').SettlementRow[]} settlements
+ * @param {Set<string>} players the batch's players: the settled drops' owners are added
+ * @returns {Promise<Set<number>>} the drops settled here
+ */
+async function settleInFlight (client, settlements, players) {
+  const settled = new Set()
+  if (settlements.length === 0) return settled
+  const { rows } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
+      multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
+    FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
+      AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
+    WHERE d.id = s.id AND d.status = 'in_flight'
+    RETURNING d.id, d.player_id, s.payout`,
+  columns(settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
+  for (const row of rows) {
+    settled.add(Number(row.id))
+    players.add(row.player_id)
+  }
+  const credits = payoutTotals(rows.map((row) => ({ playerId: row.player_id, payout: Number(row.payout) })))
+  if (credits.size > 0) {
+    await client.query(`UPDATE players AS p SET balance = p.balance + c.amount
+      FROM unnest($1::text[], $2::bigint[]) AS c (id, amount) WHERE p.id = c.id`,
+    [[...credits.keys()], [...credits.values()]])
+  }
+  return settled
+}
+
+/** @param {import('pg').PoolClient} client @param {Set<string>} players @returns {Promise<Map<string, number>>} */
+async function committedBalances (client, players) {
+  const balances = new Map()
+  if (players.size === 0) return balances
+  const { rows } = await client.query('SELECT id, balance FROM players WHERE id = ANY($1::text[])', [[...players]])
+  for (const row of rows) balances.set(row.id, Number(row.balance))
+  return balances
 }
 
 /** Opens and migrates the shared ledger. @param {{ url: string }} database */

@@ -53,6 +53,30 @@ export function balanceChanges (drops, settlements, outcome) {
 }
 
 /**
+ * What the ledger debits per player for a set of new drops (each bet's
+ * cost) and credits per player for a set of settled landings (each payout),
+ * milli-credits: the shared ledger's conditional debits and its credits
+ * (cluster/shared-ledger.js) come from here.
+ * @param {{ playerId: string, bet: number }[]} drops
+ * @returns {Map<string, number>}
+ */
+export function betTotals (drops) {
+  const totals = new Map()
+  for (const drop of drops) totals.set(drop.playerId, (totals.get(drop.playerId) ?? 0) + betCost(drop.bet))
+  return totals
+}
+
+/**
+ * @param {{ playerId: string, payout: number }[]} landings payout in milli-credits
+ * @returns {Map<string, number>} only players paid more than 0
+ */
+export function payoutTotals (landings) {
+  const totals = new Map()
+  for (const { playerId, payout } of landings) if (payout > 0) totals.set(playerId, (totals.get(playerId) ?? 0) + payout)
+  return totals
+}
+
+/**
  * A player's balance message by message through one committed batch:
  * starting from the committed balance less the batch's own changes, each
  * debit and credit is applied in the order the messages go out, so a

@@ -1,9 +1,13 @@
 /**
+ * @typedef {{ playerId?: string, serverSeedHash?: string, nonce?: number, room?: string, status?: string,
+ *   from?: number, to?: number, afterId?: number, beforeId?: number }} DropFilter times in ms
+ */
+
+/**
  * WHERE clause for drop queries, shared by both stores; `placeholder(n)`
  * returns the n-th (1-based) parameter marker: '?' for SQLite, '$n' for
  * PostgreSQL. Columns belong to the alias `d` (drops).
- * @param {{ playerId?: string, serverSeedHash?: string, nonce?: number, room?: string, status?: string,
- *   from?: number, to?: number, afterId?: number, beforeId?: number }} filter times in ms
+ * @param {DropFilter} filter
  * @param {(n: number) => string} placeholder
  */
 export function dropFilterSql (filter, placeholder) {

@@ -3,9 +3,10 @@ import { PostgresStore } from './postgres-store.js'
 
 /**
  * Opens the ledger named by the configuration and brings its schema up to
- * date. Both stores implement the same async interface (see sqlite-store.js),
+ * date. Both stores implement the ledger contract (ledger-store.js),
  * so nothing above this line knows which one it has.
  * @param {import('../config.js').Config['database']} database
+ * @returns {Promise<import('./ledger-store.js').LedgerStore>}
  */
 export async function openStore (database) {
   const store = database.kind === 'postgres'

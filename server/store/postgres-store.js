@@ -23,6 +23,7 @@ const types = {
  * The ledger on PostgreSQL through a `pg` pool, with the same schema and
  * interface as the SQLite store. A batch is a handful of statements whatever
  * its size: rows travel as arrays and are expanded by unnest().
+ * @implements {import('./ledger-store.js').LedgerStore}
  */
 export class PostgresStore {
   /** @param {{ url: string, poolSize?: number }} options */

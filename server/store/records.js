@@ -1,4 +1,4 @@
-import { toCredits } from '../../protocol/payout.js'
+import { toCredits, toMilli } from '../../protocol/payout.js'
 
 /**
  * Maps database rows (snake_case, the same from both stores once numbers are
@@ -114,5 +114,5 @@ export function statsFromRows (bucketRows, inFlight) {
     return { bucket: Number(row.bucket), count, bet, payout: toCredits(payoutMilli) }
   })
   const totalPayout = toCredits(totalPayoutMilli)
-  return { settled: drops, inFlight: Number(inFlight), totalBet, totalPayout, rtp: totalBet === 0 ? null : totalPayoutMilli / (totalBet * 1000), buckets }
+  return { settled: drops, inFlight: Number(inFlight), totalBet, totalPayout, rtp: totalBet === 0 ? null : totalPayoutMilli / toMilli(totalBet), buckets }
 }

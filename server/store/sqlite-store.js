@@ -16,6 +16,7 @@ import { gameError } from '../errors.js'
  * Reads run on this connection (WAL: they never wait for a writer), async
  * only to share one interface with the PostgreSQL store. An in-memory
  * database has no second connection: its writes run here.
+ * @implements {import('./ledger-store.js').LedgerStore}
  */
 export class SqliteStore {
   /** @param {{ file: string, busyTimeoutMs?: number }} options file path or ':memory:' */

@@ -195,4 +195,19 @@ describe('plinko CLI', () => {
       expect(stderr).toMatch(/usage:/)
     }
   })
+
+  it('bench measures the engine alone (no development dependency): a row per version, row count and seed mode', async () => {
+    const { code, stdout } = await plinko('bench', '--quick')
+    expect(code).toBe(0)
+    const rows = stdout.split('\n').filter((line) => /^\s+(16|8)\s/.test(line))
+    expect(rows).toHaveLength(2 * ENGINE_VERSIONS.length * 2)
+    for (const version of ENGINE_VERSIONS) {
+      for (const count of ['16', '8']) {
+        const mine = rows.filter((line) => line.trim().startsWith(count + ' ') && line.includes(` ${version} `))
+        expect(mine.map((line) => /precomputed|HMAC included/.exec(line)[0]).sort(), `${count} rows, ${version}`).toEqual(['HMAC included', 'precomputed'])
+        for (const line of mine) expect(Number(line.trim().split(/\s{2,}/)[3].replace(/,/g, ''))).toBeGreaterThan(0)
+      }
+    }
+    expect(stdout).toMatch(/≥30,000 drops\/s: (met|not met)/)
+  })
 })

@@ -1,6 +1,6 @@
 import { describe, it, expect } from 'vitest'
 import fc from 'fast-check'
-import { balanceChanges, RunningBalances, payoutFor, betCost } from '../../server/game/money.js'
+import { balanceChanges, RunningBalances, payoutFor, betCost, betTotals, payoutTotals } from '../../server/game/money.js'
 import { toLedgerBatch } from '../../server/game/ledger-batch.js'
 import { calibrationOf, multiplierTable, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/index.js'
 
@@ -82,5 +82,20 @@ describe('money rules (server/game/money.js)', () => {
         expect(returned(1), `${rows}-${risk} under the legacy rule`).toBeLessThan(rtp[risk] - 0.05)
       }
     }
+  })
+
+  it('totals bets and payouts per player as the shared ledger debits and credits them, agreeing with balanceChanges', () => {
+    fc.assert(fc.property(
+      fc.array(fc.record({ playerId: fc.constantFrom('a', 'b', 'c'), bet: fc.integer({ min: 1, max: 1000 }) }), { maxLength: 20 }),
+      fc.array(fc.record({ playerId: fc.constantFrom('a', 'b', 'c'), payout: fc.integer({ min: 0, max: 1_000_000 }) }), { maxLength: 20 }),
+      (drops, landings) => {
+        const bets = betTotals(drops)
+        const payouts = payoutTotals(landings)
+        for (const [, total] of payouts) expect(total).toBeGreaterThan(0)
+        const changes = balanceChanges(drops.map((d, id) => ({ ...d, id })), landings.map(({ playerId, payout }, id) => ({ drop: { playerId, id }, payout })))
+        for (const player of ['a', 'b', 'c']) expect((payouts.get(player) ?? 0) - (bets.get(player) ?? 0)).toBe(changes.get(player) ?? 0)
+      }
+    ))
+    expect(betTotals([{ playerId: 'a', bet: 10 }, { playerId: 'a', bet: 5 }])).toEqual(new Map([['a', betCost(15)]]))
   })
 })

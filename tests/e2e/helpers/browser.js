@@ -1,23 +1,8 @@
 import { existsSync } from 'node:fs'
 import { chromium } from 'playwright-core'
+import { CHROMIUM_PATH, CHROMIUM_ARGS } from '../../../tools/chromium.js'
 
-/**
- * Debian's Chromium (apt-get install chromium), never a downloaded build.
- * CHROMIUM_PATH overrides the path.
- */
-export const CHROMIUM_PATH = process.env.CHROMIUM_PATH || '/usr/bin/chromium'
-
-/** Headless, sandbox off (containers run as root), and every networking feature that could reach out turned off. */
-export const CHROMIUM_ARGS = [
-  '--headless=new',
-  '--no-sandbox',
-  '--disable-gpu',
-  '--disable-quic',
-  '--no-first-run',
-  '--disable-background-networking',
-  '--disable-component-update',
-  '--disable-sync'
-]
+export { CHROMIUM_PATH, CHROMIUM_ARGS }
 
 /**
  * Waits (up to `timeoutMs`) for the Chromium binary: on a fresh machine

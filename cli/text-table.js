@@ -1,5 +1,5 @@
 /**
- * Plain-text tables and number formats for the benchmark output.
+ * Plain-text tables and number formats: the `plinko bench` output and the benchmarks' (bench/).
  */
 
 /**

@@ -1,0 +1,140 @@
+import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { createHash } from 'node:crypto'
+import { storeBackend } from './helpers/stores.js'
+import { openStore } from '../../server/store/open-store.js'
+import { openSharedLedger } from '../../server/cluster/shared-ledger.js'
+import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { payoutFor, toMilli } from '../../server/game/money.js'
+
+/**
+ * The ledger contract (server/store/ledger-store.js), one set of checks run
+ * against every implementation: SQLite, PostgreSQL, and the cluster's
+ * shared PostgreSQL ledger. Batches are built by the game's own
+ * toLedgerBatch, so the rows are the ones the server writes.
+ */
+const IMPLEMENTATIONS = [
+  { name: 'SQLite', backend: 'sqlite', open: (database) => openStore(database) },
+  { name: 'PostgreSQL', backend: 'postgres', open: (database) => openStore(database) },
+  { name: 'shared PostgreSQL ledger (cluster)', backend: 'postgres', open: (database) => openSharedLedger(database) }
+]
+
+const sha256 = (text) => createHash('sha256').update(text).digest('hex')
+const seedNamed = (name) => ({ id: `seed-${name}`, seed: sha256(`server seed ${name}`), hash: sha256(sha256(`server seed ${name}`)) })
+
+function newPlayer (name, balance) {
+  return { id: `player-${name}`, tokenHash: sha256(`token ${name}`), balance: toMilli(balance), clientSeed: `client-${name}`, createdAt: Date.UTC(2026, 11, 1, 12), seed: seedNamed(`${name}-1`) }
+}
+
+/** A drop as the game holds it (server/game/drop.js), for toLedgerBatch. */
+function gameDrop (id, account, { bet = 10, room = '16-medium', nonce }) {
+  return {
+    id, account, playerId: account.playerId, roomId: room, rows: 16, risk: 'medium', engineVersion: '2.0.0',
+    seedId: account.seed.id, serverSeedHash: account.seed.hash, clientSeed: account.clientSeed, nonce,
+    dropSeed: sha256(`drop ${id}`), bet, payoutRule: 1, createdAt: Date.UTC(2026, 11, 1, 12, 0, id), startTick: 100 + id, clientSeedChange: null
+  }
+}
+
+function settlement (drop, multiplier) {
+  return { drop, bucket: 3, multiplier, payout: payoutFor(drop.bet, multiplier), ticks: 180, stateHash: '0123456789abcdef', tick: drop.startTick + 180, settledAt: drop.createdAt + 3000 }
+}
+
+describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ backend: kind, open }) => {
+  const backend = storeBackend(kind)
+  let store
+  beforeAll(async () => {
+    await backend.setup()
+    store = await open((await backend.newDatabase()).database)
+  }, 120_000)
+  afterAll(async () => {
+    await store?.close()
+    await backend.teardown()
+  })
+
+  it('migrates again without change, and starts empty', async () => {
+    await store.migrate()
+    expect(await store.maxDropId()).toBe(0)
+    expect(await store.listInFlightDrops()).toEqual([])
+    expect(await store.loadAccount('nobody')).toBeNull()
+    expect(await store.findPlayerIdByTokenHash(sha256('no token'))).toBeNull()
+    expect(await store.getDrop(1)).toBeNull()
+  })
+
+  it('creates a player with its first seed, found by its token hash', async () => {
+    const player = newPlayer('ada', 100)
+    await store.createPlayer(player)
+    expect(await store.findPlayerIdByTokenHash(player.tokenHash)).toBe(player.id)
+    const account = await store.loadAccount(player.id)
+    expect(account).toMatchObject({ playerId: player.id, balance: toMilli(100), clientSeed: 'client-ada', createdAt: player.createdAt })
+    expect(account.seed).toMatchObject({ id: player.seed.id, seed: player.seed.seed, hash: player.seed.hash })
+    expect(account.seed.nextNonce).toBe(0)
+    const [seed] = await store.listSeeds(player.id)
+    expect(seed).toMatchObject({ id: player.seed.id, serverSeedHash: player.seed.hash, active: true, serverSeed: null, revealedAt: null })
+    expect(JSON.stringify(await store.listSeeds(player.id))).not.toContain(player.seed.seed)
+  })
+
+  it('debits a bet and credits its payout in the batches that record and settle it, and returns the committed balances', async () => {
+    const account = await store.loadAccount('player-ada')
+    const first = gameDrop(1, account, { bet: 10, nonce: 0 })
+    const second = gameDrop(2, account, { bet: 5, nonce: 1, room: '8-low' })
+    const recorded = await store.commitBatch(toLedgerBatch({ drops: [first, second], settlements: [] }))
+    expect(recorded.rejected.size).toBe(0)
+    expect(recorded.balances.get('player-ada')).toBe(toMilli(85))
+    expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([1, 2])
+    const inFlight = await store.getDrop(1)
+    expect(inFlight).toMatchObject({ id: 1, playerId: 'player-ada', room: '16-medium', bet: 10, nonce: 0, status: 'in_flight', bucket: null, payout: null, startTick: 101 })
+    expect(inFlight.serverSeed ?? null).toBeNull()
+    expect(await store.getServerSeedOfDrop(1)).toBe(account.seed.seed)
+    expect(await store.maxDropId()).toBe(2)
+
+    const settled = await store.commitBatch(toLedgerBatch({ drops: [], settlements: [settlement(first, 2.5)] }))
+    expect([...settled.settled]).toEqual([1])
+    expect(settled.balances.get('player-ada')).toBe(toMilli(110))
+    expect(await store.getDrop(1)).toMatchObject({ status: 'settled', bucket: 3, multiplier: 2.5, payout: 25, ticks: 180, stateHash: '0123456789abcdef' })
+    expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([2])
+    const reloaded = await store.loadAccount('player-ada')
+    expect(reloaded.balance).toBe(toMilli(110))
+    // A nonce a batch recorded is never handed out again (a cluster's store reserves them in blocks).
+    expect(reloaded.seed.nextNonce).toBeGreaterThanOrEqual(2)
+  })
+
+  it('never credits a settlement twice', async () => {
+    const account = await store.loadAccount('player-ada')
+    const first = { ...gameDrop(1, account, { bet: 10, nonce: 0 }) }
+    let outcome = null
+    try {
+      outcome = await store.commitBatch(toLedgerBatch({ drops: [], settlements: [settlement(first, 2.5)] }))
+    } catch (error) {
+      expect(error.message).toMatch(/not in flight/)
+    }
+    if (outcome) expect(outcome.settled.has(1)).toBe(false)
+    expect((await store.loadAccount('player-ada')).balance).toBe(toMilli(110))
+    expect((await store.getDrop(1)).payout).toBe(25)
+  })
+
+  it('rotates a seed: the old one revealed on its drops and in the list, the new one active', async () => {
+    const before = await store.loadAccount('player-ada')
+    const next = seedNamed('ada-2')
+    await store.rotateSeed({ playerId: 'player-ada', oldSeedId: before.seed.id, newSeed: next, at: Date.UTC(2026, 11, 1, 13) })
+    const after = await store.loadAccount('player-ada')
+    expect(after.seed).toMatchObject({ id: next.id, hash: next.hash })
+    expect((await store.getDrop(1)).serverSeed).toBe(before.seed.seed)
+    const seeds = await store.listSeeds('player-ada')
+    expect(seeds.find((s) => s.serverSeedHash === before.seed.hash)).toMatchObject({ active: false, serverSeed: before.seed.seed, revealedAt: new Date(Date.UTC(2026, 11, 1, 13)).toISOString() })
+    expect(JSON.stringify(seeds)).toContain(before.seed.seed)
+    expect(JSON.stringify(seeds)).not.toContain(next.seed)
+    await expect(store.rotateSeed({ playerId: 'player-ada', oldSeedId: before.seed.id, newSeed: seedNamed('ada-3'), at: Date.now() })).rejects.toThrow()
+  })
+
+  it('lists drops newest first with a limit, iterates them oldest first, and sums a room', async () => {
+    expect((await store.listDrops({ playerId: 'player-ada', limit: 10 })).map((d) => d.id)).toEqual([2, 1])
+    expect((await store.listDrops({ playerId: 'player-ada', limit: 1 })).map((d) => d.id)).toEqual([2])
+    expect((await store.listDrops({ room: '8-low', limit: 10 })).map((d) => d.id)).toEqual([2])
+    expect((await store.listDrops({ playerId: 'someone else', limit: 10 }))).toEqual([])
+    const all = []
+    for await (const drop of store.iterateDrops({ playerId: 'player-ada' })) all.push(drop.id)
+    expect(all).toEqual([1, 2])
+    const stats = await store.roomStats('16-medium', '2.0.0')
+    expect(JSON.stringify(stats)).toMatch(/25/)
+    expect(await store.roomStats('16-medium', '1.0.0')).not.toEqual(stats)
+  })
+})
