@@ -28,6 +28,7 @@ import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
 import { createSession } from '../server/ledger/sessions.js'
 import { Room } from '../server/rooms/room.js'
+import { snapshotsDelivery } from '../server/realtime/delivery-snapshots.js'
 import { boardOf } from '../server/rooms/boards.js'
 import { deriveDropSeed } from '../server/fairness/seeds.js'
 import { summarize } from './measure.js'
@@ -66,7 +67,8 @@ class BenchClient {
     if (type === 'settled' && this.arena.accepting) this.drop()
   }
 
-  sendRoomFrame (frame) { this.snapshotBytes += frame.length }
+  sendRoomFrame (frame) { this.snapshotBytes += frame.length; return true }
+  sendEventFrame (frame) { this.snapshotBytes += frame.length; return true }
   sendError () { this.errors++ }
   drop () {
     this.arena.drop(this, { bet: 1 })
@@ -102,7 +104,7 @@ async function run (config) {
     arena.rooms.adopt(room)
     const client = new BenchClient(arena, account, room)
     account.connections.add(client)
-    room.clients.add(client)
+    client.feed = room.join(client, snapshotsDelivery)
     clients.push(client)
   }
 

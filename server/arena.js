@@ -4,11 +4,14 @@ import { RoomRegistry } from './rooms/room-registry.js'
 import { TickScheduler, SIMULATION_HZ } from './rooms/tick-scheduler.js'
 import { DropLifecycle } from './game/drop-lifecycle.js'
 import { gameError } from './errors.js'
+import { deliveryNamed, emptyTally } from './realtime/deliveries.js'
+import { joinedMessage } from '../protocol/server-messages.js'
+import { DESYNC_CHECK_SECONDS } from './realtime/delivery-seeds.js'
 
 /**
  * The game: rooms on one clock and the connections in them. Each tick steps
- * every room, seals the tick's ledger batch and broadcasts the snapshots
- * that are due. A drop's life (money, record, announcements) is the drop
+ * every room, seals the tick's ledger batch and lets each room's feeds
+ * (server/realtime/deliveries.js) send what is due. A drop's life (money, record, announcements) is the drop
  * lifecycle's (game/drop-lifecycle.js); which rooms this process may run,
  * and where nonces and drop ids come from, the coordinator's
  * (coordination/coordinator.js), the same interface alone or clustered.
@@ -33,6 +36,8 @@ export class Arena {
     this.accounts = new AccountBook({ store, limits: { dropRate: config.dropRate, dropBurst: config.dropBurst, joinRate: config.joinRate } })
     this.rooms = new RoomRegistry({
       snapshotEvery: SIMULATION_HZ / config.snapshotHz,
+      eventEvery: SIMULATION_HZ / config.eventHz,
+      checkEvery: DESYNC_CHECK_SECONDS * SIMULATION_HZ,
       onChange: (room) => {
         metrics.rooms.set(this.rooms.size)
         if (this.rooms.get(room.id) !== room) coordinator.roomDisposed(room.id)
@@ -46,6 +51,7 @@ export class Arena {
     this.scheduler = new TickScheduler({ onTick: () => this.tick(), tickRate, maxCatchUp: config.maxCatchUpTicks, metrics, log })
     /** @type {Set<import('./realtime/connection.js').Connection>} */
     this.connections = new Set()
+    this._tally = emptyTally()
   }
 
   /** Settles what the last run left (coordinator.start), then starts the clock. */
@@ -79,25 +85,22 @@ export class Arena {
       inFlight += room.ballsInFlight
     }
     this.ledger.flush()
-    for (const room of this.rooms.values()) {
-      if (room.clients.size === 0 || !room.snapshotDue) continue
-      const { frame, events } = room.encodeFrame()
-      if (frame !== null) {
-        let written = 0
-        for (const client of room.clients) if (client.sendRoomFrame(frame, events)) written++
-        if (written > 0) {
-          this.metrics.snapshotOut.inc(written)
-          this.metrics.bytesOut.inc(written * frame.length)
-        }
-      } else if (events !== null) {
-        room.sendEvents(events)
-      }
-    }
+    const tally = this._tally
+    for (const room of this.rooms.values()) if (room.clients.size > 0) room.deliver(tally)
+    this._count(tally)
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
     if (this.scheduler.ticks % this.heartbeatTicks === this.heartbeatTicks - 1) {
       for (const connection of this.connections) connection.heartbeat()
     }
+  }
+
+  /** The tick's frames, counted once (not per socket). @param {import('./realtime/deliveries.js').DeliveryTally} tally */
+  _count (tally) {
+    if (tally.snapshotFrames > 0) this.metrics.snapshotOut.inc(tally.snapshotFrames)
+    if (tally.eventFrames > 0) this.metrics.dropEventsOut.inc(tally.eventFrames)
+    if (tally.snapshotBytes + tally.eventBytes > 0) this.metrics.bytesOut.inc(tally.snapshotBytes + tally.eventBytes)
+    tally.snapshotFrames = tally.snapshotBytes = tally.eventFrames = tally.eventBytes = 0
   }
 
   // ---- connections and rooms ------------------------------------------
@@ -120,45 +123,46 @@ export class Arena {
    * may not run yet is claimed first (async), or the error says where it runs.
    * @param {import('./realtime/connection.js').Connection} connection
    * @param {unknown} roomId
+   * @param {string} [deliveryName] `join.delivery` (schema-checked): how this socket is fed in the room
    * @returns {object | Promise<object>} the `joined` message
    */
-  join (connection, roomId) {
+  join (connection, roomId, deliveryName) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
+    const delivery = deliveryNamed(deliveryName)
     const id = /** @type {string} */ (roomId)
-    if (this.rooms.get(id) || !parseRoomId(roomId) || this.coordinator.ownsRoom(id)) return this._join(connection, roomId)
+    if (this.rooms.get(id) || !parseRoomId(roomId) || this.coordinator.ownsRoom(id)) return this._join(connection, roomId, delivery)
     return this.coordinator.claimRoom(id).then(() => {
       if (connection.closed) throw gameError('E_UNAVAILABLE', 'connection closed')
-      return this._join(connection, id)
+      return this._join(connection, id, delivery)
     })
   }
 
-  /** @param {any} connection @param {unknown} roomId */
-  _join (connection, roomId) {
+  /** @param {any} connection @param {unknown} roomId @param {import('./realtime/deliveries.js').Delivery} delivery */
+  _join (connection, roomId, delivery) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
     const room = this.rooms.getOrCreate(roomId)
-    if (connection.room && connection.room !== room) this.leave(connection)
-    // Events queued so far concern balls the joiner gets in `balls`: the others get them now.
-    room.sendQueuedEvents()
-    room.clients.add(connection)
+    if (connection.room) this.leave(connection)
+    connection.feed = room.join(connection, delivery)
     connection.room = room
-    return {
-      type: 'joined',
+    return joinedMessage({
       room: room.id,
+      delivery: delivery.name,
       board: room.board,
       tick: room.tick,
       tickRate: SIMULATION_HZ,
       snapshotEvery: room.snapshotEvery,
       engineVersion: room.board.engineVersion,
       balls: room.ballStates()
-    }
+    }, delivery.joinedFields(room))
   }
 
   /** @param {import('./realtime/connection.js').Connection} connection */
   leave (connection) {
     const room = connection.room
     if (!room) throw gameError('E_NOT_IN_ROOM', 'not in a room')
-    room.clients.delete(connection)
+    room.leave(connection, connection.feed)
     connection.room = null
+    connection.feed = null
     return room.id
   }
 
@@ -184,11 +188,12 @@ export class Arena {
   evictRoom (roomId) {
     const room = this.rooms.remove(roomId)
     if (!room) return
-    for (const client of room.clients) {
+    for (const client of [...room.clients]) {
+      room.leave(client, client.feed)
       client.room = null
+      client.feed = null
       client.sendError('E_ROOM_MOVING', 'this process lost the room; join it again', undefined, { room: roomId, retryAfterMs: 0 })
     }
-    room.clients.clear()
     this.drops.roomGone(room)
   }
 

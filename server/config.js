@@ -66,6 +66,7 @@ export const CONFIG_SCHEMA = {
       errorMessage: 'must be at least 16 characters (or unset to generate one)'
     },
     SNAPSHOT_HZ: oneOf(SNAPSHOT_RATES.map(String), '20'),
+    EVENT_HZ: oneOf(SNAPSHOT_RATES.map(String), '4'),
     SPECTATOR_EVENTS: oneOf(['snapshot', 'immediate'], 'snapshot'),
     STARTING_BALANCE: integer(0, Number.MAX_SAFE_INTEGER, '100000'),
     MIN_BET: integer(1, Number.MAX_SAFE_INTEGER, '1'),
@@ -136,6 +137,7 @@ export const CONFIG_SCHEMA = {
  * @property {{ kind: 'sqlite', file: string, busyTimeoutMs: number } | { kind: 'postgres', url: string }} database
  * @property {string} operatorToken @property {boolean} operatorTokenGenerated
  * @property {number} snapshotHz @property {number} startingBalance
+ * @property {number} eventHz drop-events frames per second at most, per room, to seeds-mode sockets
  * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
  * @property {'auto' | 'json' | 'pretty'} logFormat pretty logs and a banner on a terminal, JSON lines otherwise (server/log-format.js)
@@ -238,6 +240,7 @@ export function loadConfig (env = process.env) {
     operatorToken: generated ? randomToken() : values.OPERATOR_TOKEN,
     operatorTokenGenerated: generated,
     snapshotHz: Number(values.SNAPSHOT_HZ),
+    eventHz: Number(values.EVENT_HZ),
     spectatorEvents: values.SPECTATOR_EVENTS,
     startingBalance: values.STARTING_BALANCE,
     minBet: values.MIN_BET,

@@ -42,7 +42,8 @@ export function createMetrics ({ defaultMetrics = true } = {}) {
     slowConsumersClosed: new Counter({ name: 'plinko_ws_slow_consumers_closed_total', help: 'Connections closed because their send buffer passed the hard limit', registers }),
     errors: new Counter({ name: 'plinko_errors_total', help: 'Protocol and HTTP errors returned, by code', labelNames: ['code'], registers }),
     /** Pre-bound children for the hot path (label lookup once). */
-    snapshotOut: messagesOut.labels('snapshot')
+    snapshotOut: messagesOut.labels('snapshot'),
+    dropEventsOut: messagesOut.labels('drop_events')
   }
 }
 

@@ -4,6 +4,7 @@
  */
 import { parseCommandLine } from '../../cli/command-line.js'
 import { UsageError } from '../../cli/usage-error.js'
+import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 
 export { UsageError }
 
@@ -21,6 +22,7 @@ export const USAGE = `usage: npm run loadtest -- [options]
   --drain TIME           how long players wait for their last settles (default 20s)
   --bet N                credits per drop (default 10)
   --snapshot-hz N        the server's SNAPSHOT_HZ (default: the server's, 20)
+  --delivery MODE        the players' join.delivery: snapshots (default) or seeds
   --env KEY=VALUE        extra environment for the server (repeatable)
   -e KEY=VALUE           extra k6 variable, e.g. -e SETTLE_P99_MS=250 (repeatable)
   --profile              run the server under node --cpu-prof; the profile and its summary go in the report
@@ -58,6 +60,7 @@ const OPTIONS = {
   drain: { type: 'string' },
   bet: { type: 'string' },
   'snapshot-hz': { type: 'string' },
+  delivery: { type: 'string' },
   env: { type: 'string', multiple: true, default: [] },
   e: { type: 'string', multiple: true, default: [] },
   profile: { type: 'boolean', default: false },
@@ -72,7 +75,7 @@ const OPTIONS = {
  * @param {string[]} argv
  * @returns {{ help: boolean, scenario: string, vus: number, rooms: number, durationS?: number,
  *   dropIntervalS: number, rampS?: number, leaveS?: number, drainS?: number, bet?: number,
- *   snapshotHz?: number, serverEnv: Record<string, string>, k6Env: Record<string, string>,
+ *   snapshotHz?: number, delivery: 'snapshots' | 'seeds', serverEnv: Record<string, string>, k6Env: Record<string, string>,
  *   profile: boolean, pin: boolean, sampleIntervalS: number, out?: string }}
  */
 export function parseArgs (argv) {
@@ -91,6 +94,7 @@ export function parseArgs (argv) {
     drainS: optional('drain', parseDuration),
     bet: optional('bet', positiveInteger),
     snapshotHz: optional('snapshot-hz', positiveInteger),
+    delivery: optional('delivery', deliveryMode) ?? 'snapshots',
     serverEnv: Object.assign({}, ...values.env.map((pair) => keyValue('--env', pair))),
     k6Env: Object.assign({}, ...values.e.map((pair) => keyValue('-e', pair))),
     profile: values.profile,
@@ -103,6 +107,12 @@ export function parseArgs (argv) {
   if (options.durationS !== undefined && options.durationS <= 0) throw new UsageError('--duration must be positive')
   if (options.sampleIntervalS < 0.1) throw new UsageError('--sample-interval must be at least 100ms')
   return options
+}
+
+/** A `join.delivery` given as --NAME, or a UsageError. @param {string} raw @param {string} name @returns {'snapshots' | 'seeds'} */
+export function deliveryMode (raw, name) {
+  if (!DELIVERY_MODES.includes(raw)) throw new UsageError(`--${name} must be one of ${DELIVERY_MODES.join(', ')}, got ${raw}`)
+  return /** @type {'snapshots' | 'seeds'} */ (raw)
 }
 
 /** A whole number ≥ 1 given as --NAME, or a UsageError. @param {string} raw @param {string} name */

@@ -22,7 +22,9 @@ export const metrics = {
   /** Per client, over its connected time. */
   clientMessagesPerSecond: new Trend('client_msgs_per_s'),
   clientBytesPerSecond: new Trend('client_bytes_per_s'),
-  /** Totals by `kind` tag: json or snapshot. */
+  /** Seeds mode: the other players' drops received in drop-events frames. */
+  dropEventsReceived: new Counter('drop_events_received'),
+  /** Totals by `kind` tag: json, snapshot, or drop_events (seeds mode). */
   messagesReceived: new Counter('messages_received'),
   bytesReceived: new Counter('bytes_received'),
   dropsSent: new Counter('drops_sent'),

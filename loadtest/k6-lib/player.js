@@ -105,6 +105,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
   const every = config.jitterSampleEvery
   const interval = config.dropIntervalMs
   const bet = config.bet
+  const seeds = config.delivery === 'seeds'
   let playerId = null
   let balance = 0
   let snapshotEvery = 3
@@ -123,6 +124,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
   let jsonBytes = 0
   let frames = 0
   let frameBytes = 0
+  let dropEventCount = 0
   let phase = 0
   let sampleTick = -1
   let sampleAt = 0
@@ -141,6 +143,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     if (typeof data !== 'string') {
       frames++
       frameBytes += data.byteLength
+      if (seeds) return dropEvents(data)
       // Time one pair of consecutive frames in every `every`.
       if (++phase >= every) sampleSnapshot(data, event.timestamp)
       return
@@ -172,7 +175,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       case 'welcome':
         playerId = message.playerId
         balance = message.balance
-        ws.send(JSON.stringify({ type: 'join', room }))
+        ws.send(JSON.stringify(seeds ? { type: 'join', room, delivery: 'seeds' } : { type: 'join', room }))
         return
       case 'joined': return joined(message)
       case 'dropped': if (message.player === playerId) dropped(message, at); return
@@ -290,6 +293,25 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     }
   }
 
+  /**
+   * Seeds mode: a drop-events frame (protocol/drop-events-codec.js: kind 3,
+   * N at offset 13, 15 + 64·N bytes); its events are counted, not decoded
+   * (k6's CPU is shared with the server). Anything else is an error.
+   */
+  function dropEvents (buffer) {
+    const bytes = new Uint8Array(buffer)
+    if (bytes[0] !== 3) {
+      metrics.errors.add(1, { code: 'X_UNEXPECTED_SNAPSHOT' })
+      return logOnce(`binary frame of kind ${bytes[0]} on a seeds socket`)
+    }
+    const count = bytes.length >= 15 ? bytes[13] | (bytes[14] << 8) : -1
+    if (count < 0 || bytes.length !== 15 + 64 * count) {
+      metrics.errors.add(1, { code: 'X_BAD_FRAME' })
+      return logOnce(`drop-events frame of ${bytes.length} bytes`)
+    }
+    dropEventCount += count
+  }
+
   /** Stops dropping, waits for the last settles (at most DRAIN), then closes. */
   function leave () {
     if (leaving || finished) return
@@ -326,9 +348,11 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     metrics.errors.add(0)
     metrics.balanceMismatches.add(0)
     metrics.messagesReceived.add(jsonMessages, { kind: 'json' })
-    metrics.messagesReceived.add(frames, { kind: 'snapshot' })
+    const binaryKind = seeds ? 'drop_events' : 'snapshot'
+    metrics.messagesReceived.add(frames, { kind: binaryKind })
     metrics.bytesReceived.add(jsonBytes, { kind: 'json' })
-    metrics.bytesReceived.add(frameBytes, { kind: 'snapshot' })
+    metrics.bytesReceived.add(frameBytes, { kind: binaryKind })
+    metrics.dropEventsReceived.add(dropEventCount)
     const seconds = openedAt > 0 ? (Date.now() - openedAt) / 1000 : 0
     if (seconds >= 1) {
       metrics.clientMessagesPerSecond.add((jsonMessages + frames) / seconds)

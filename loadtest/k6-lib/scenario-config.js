@@ -18,13 +18,15 @@
  *   SETTLE_P99_MS   500                      threshold: p99 of (drop→settled − ball flight time)
  *   ACK_P99_MS      500                      threshold: p99 of drop→dropped
  *   JITTER_P99_MS   150                      threshold: p99 of snapshot jitter
+ *   DELIVERY        snapshots                the players' join.delivery: snapshots (positions) or seeds (drop-events frames only)
  *   BREAKDOWN       (unset)                  1: also summarize errors by code and traffic by kind
  */
 
 import { ERROR_CODES } from '../../server/errors.js'
+import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 
 /** Error codes the players count besides the server's own (see player.js). */
-const CLIENT_ERROR_CODES = ['X_BALANCE_MISMATCH', 'X_BAD_PAYOUT', 'X_UNKNOWN_DROP', 'X_UNKNOWN_SETTLE', 'X_JOIN_TIMEOUT', 'X_BAD_JSON',
+const CLIENT_ERROR_CODES = ['X_UNEXPECTED_SNAPSHOT', 'X_BAD_FRAME', 'X_BALANCE_MISMATCH', 'X_BAD_PAYOUT', 'X_UNKNOWN_DROP', 'X_UNKNOWN_SETTLE', 'X_JOIN_TIMEOUT', 'X_BAD_JSON',
   'WS_ERROR', 'WS_CLOSE_1001', 'WS_CLOSE_1006', 'WS_CLOSE_1008', 'WS_CLOSE_1011', 'WS_CLOSE_1013', 'WS_CLOSE_4401',
   'HTTP_0', 'HTTP_429', 'HTTP_500', 'HTTP_503']
 
@@ -103,9 +105,11 @@ export function readScenarioConfig (defaults = {}) {
     jitterSampleEvery: positiveInteger('JITTER_SAMPLE', 5),
     settleP99Ms: numberVar('SETTLE_P99_MS', 500),
     ackP99Ms: numberVar('ACK_P99_MS', 500),
-    jitterP99Ms: numberVar('JITTER_P99_MS', 150)
+    jitterP99Ms: numberVar('JITTER_P99_MS', 150),
+    delivery: __ENV.DELIVERY || 'snapshots'
   }
   if (config.durationS <= 0) throw new Error('DURATION must be positive')
+  if (!DELIVERY_MODES.includes(config.delivery)) throw new Error(`DELIVERY must be one of ${DELIVERY_MODES.join(', ')}`)
   return config
 }
 
@@ -140,7 +144,8 @@ export function playerScenarioOptions (config, name) {
       drops_settled: ['count>0'],
       drop_settle_overhead_ms: [`p(99)<${config.settleP99Ms}`],
       drop_ack_ms: [`p(99)<${config.ackP99Ms}`],
-      snapshot_jitter_ms: [`p(99)<${config.jitterP99Ms}`],
+      // Seeds mode has no snapshots to time: a snapshot frame there is an error (X_UNEXPECTED_SNAPSHOT) instead.
+      ...(config.delivery === 'seeds' ? { drop_events_received: ['count>0'] } : { snapshot_jitter_ms: [`p(99)<${config.jitterP99Ms}`] }),
       ...(__ENV.BREAKDOWN ? breakdown() : {})
     }
   }
@@ -155,7 +160,7 @@ export function playerScenarioOptions (config, name) {
 function breakdown () {
   const entries = {}
   for (const code of [...Object.keys(ERROR_CODES), ...CLIENT_ERROR_CODES]) entries[`plinko_errors{code:${code}}`] = ['count>=0']
-  for (const kind of ['json', 'snapshot']) {
+  for (const kind of ['json', 'snapshot', 'drop_events']) {
     entries[`messages_received{kind:${kind}}`] = ['count>=0']
     entries[`bytes_received{kind:${kind}}`] = ['count>=0']
   }

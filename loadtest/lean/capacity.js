@@ -1,13 +1,15 @@
 #!/usr/bin/env node
 /**
  * `npm run loadtest:capacity -- [options]`: how many players one server
- * process holds on one core. For each player count in --steps: the bare
- * WebSocket floor with that many clients (measure-server.js), then a fresh
- * server (server/server.js, SQLite ledger) pinned to CPU 0 under the lean
- * load generator on CPU 1 with the reference load (one drop per player
- * every 2 s, 20 Hz snapshots, --rooms rooms), /metrics read every second.
- * A step holds when every criterion does (CRITERIA below); the stepping
- * stops at the first step that does not (--all: runs every step).
+ * process holds on one core, in each delivery mode (--delivery, default
+ * both, side by side). For each player count in --steps: the bare
+ * WebSocket floor with that many clients (measure-server.js), then for each
+ * mode a fresh server (server/server.js, SQLite ledger) pinned to CPU 0
+ * under the lean load generator on CPU 1 with the reference load (one drop
+ * per player every 2 s, 20 Hz snapshots or 4 Hz drop events, --rooms
+ * rooms), /metrics read every second. A step holds when every criterion
+ * does (CRITERIA below); a mode stops stepping at its first step that does
+ * not (--all: runs every step).
  *
  * Prints one line per step and writes the table to loadtest/RESULTS.md
  * between the `capacity:begin` / `capacity:end` markers (--no-results:
@@ -18,7 +20,8 @@ import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { parseCommandLine } from '../../cli/command-line.js'
 import { optionsOrExit } from '../../cli/usage-error.js'
-import { parseDuration, positiveInteger } from '../driver/cli-args.js'
+import { parseDuration, positiveInteger, deliveryMode } from '../driver/cli-args.js'
+import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 import { formatLeanSummary } from './lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
 
@@ -32,7 +35,9 @@ export const CRITERIA = [
   { name: 'tick lag p99 < 16.7 ms', holds: (step) => step.lagP99Ms !== null && step.lagP99Ms < 16.7 },
   { name: '0 errors', holds: (step) => step.errors === 0 && step.serverErrors === 0 },
   { name: 'every drop settled', holds: (step) => step.unsettled === 0 && step.dropsSettled === step.dropsSent && step.dropsSent > 0 },
-  { name: 'drop → dropped p99 < 250 ms', holds: (step) => step.ackP99Ms !== null && step.ackP99Ms < 250 }
+  { name: 'drop → dropped p99 < 250 ms', holds: (step) => step.ackP99Ms !== null && step.ackP99Ms < 250 },
+  // Measured in seeds mode (the lean player decodes the drop-events frames); snapshots mode's room frames are not parsed.
+  { name: "another player's drop reaches its room p99 ≤ 300 ms (seeds)", holds: (step) => step.delivery !== 'seeds' || (step.sightingP99Ms !== null && step.sightingP99Ms <= 300) }
 ]
 
 export const USAGE = `usage: npm run loadtest:capacity -- [options]
@@ -43,6 +48,7 @@ export const USAGE = `usage: npm run loadtest:capacity -- [options]
   --ramp TIME          players connect spread over this (default 20s)
   --floor-seconds TIME the floor's window per step (default 10s; 0 = no floor)
   --workers N          generator worker threads (default 1)
+  --delivery LIST      modes to measure, side by side: snapshots,seeds (default both)
   --all                run every step, not only up to the first that fails
   --no-results         print only; do not write loadtest/RESULTS.md
   -h, --help`
@@ -61,6 +67,7 @@ const OPTIONS = {
   ...STEP_OPTIONS,
   'floor-seconds': { type: 'string' },
   workers: { type: 'string' },
+  delivery: { type: 'string' },
   all: { type: 'boolean', default: false }
 }
 
@@ -77,6 +84,7 @@ export function parseCapacityArgs (argv) {
     rampS: parseDuration(values.ramp ?? '20s', 'ramp'),
     floorSeconds: parseDuration(values['floor-seconds'] ?? '10s', 'floor-seconds'),
     workers: values.workers === undefined ? 1 : positiveInteger(values.workers, 'workers'),
+    deliveries: [...new Set((values.delivery ?? DELIVERY_MODES.join(',')).split(',').map((raw) => deliveryMode(raw.trim(), 'delivery')))],
     all: values.all,
     writeResults: !values['no-results']
   }
@@ -91,9 +99,17 @@ export function stepFigures (ours, floor) {
   const s = ours.summary
   const a = ours.analysis
   const ms = (seconds) => seconds === null || seconds === undefined ? null : seconds * 1000
+  const steadyDrops = s.steady.ackMs.count
   const step = {
     players: ours.players,
+    delivery: ours.delivery ?? 'snapshots',
     serverShare: ours.serverShare,
+    /** Server CPU per player-second (µs): its share of a core spread over the players. */
+    serverUsPerPlayerSecond: ours.serverShare !== undefined && ours.players > 0 ? ours.serverShare * 1e6 / ours.players : null,
+    /** Server CPU per drop (µs), everything included (frames too): CPU of the steady window over the drops sent in it. */
+    serverUsPerDrop: ours.serverCpuS !== undefined && steadyDrops > 0 ? ours.serverCpuS * 1e6 / steadyDrops : null,
+    sightingP50Ms: s.steady.sightingMs?.p50 ?? null,
+    sightingP99Ms: s.steady.sightingMs?.p99 ?? null,
     serverUsPerFrame: ours.serverUsPerFrame,
     floorUsPerFrame: floor?.serverUsPerFrame ?? null,
     ratio: floor ? ours.serverUsPerFrame / floor.serverUsPerFrame : null,
@@ -141,13 +157,17 @@ export function serverErrorCount (analysis) {
 
 /** The markdown table of the steps, and the verdict. @param {ReturnType<typeof stepFigures>[]} steps @param {object} options */
 export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new Date() }) {
-  const best = steps.filter((step) => step.holds).map((step) => step.players)
-  const header = '| players | server CPU | server µs/frame | floor µs/frame | ratio | tick p99 | lag p99 | drop → dropped p50 / p99 | drop → settled p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
-  const rows = steps.map((step) => `| ${step.players.toLocaleString('en-US')} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
+  const modes = [...new Set(steps.map((step) => step.delivery ?? 'snapshots'))]
+  const bestOf = (mode) => {
+    const held = steps.filter((step) => (step.delivery ?? 'snapshots') === mode && step.holds).map((step) => step.players)
+    return held.length ? Math.max(...held).toLocaleString('en-US') : 'none of the steps'
+  }
+  const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
+  const rows = steps.map((step) => `| ${step.players.toLocaleString('en-US')} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
   return [
     `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? 'server pinned to CPU 0 and the generator to CPU 1' : 'NOT pinned'}.`,
     '',
-    `**Most players on one server process with every criterion met: ${best.length ? Math.max(...best).toLocaleString('en-US') : 'none of the steps'}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).`,
+    `**Most players on one server process with every criterion met: ${modes.map((mode) => `${mode} ${bestOf(mode)}`).join(', ')}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).`,
     '',
     header,
     `|${header.split('|').slice(1, -1).map(() => ' ---').join(' |')} |`,
@@ -177,16 +197,22 @@ export function writeBetweenMarkers (file, body, { begin: beginMarker, end: endM
 async function main () {
   const options = optionsOrExit(parseCapacityArgs, process.argv.slice(2), USAGE)
   const pinned = canPin() && pinSelf('1')
-  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; ${pinned ? 'server on CPU 0, generator on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
+  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; delivery ${options.deliveries.join(' and ')}; ${pinned ? 'server on CPU 0, generator on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
   const steps = []
+  // Each mode steps on until its first failing step; the same generator and load for both.
+  const stepping = new Set(options.deliveries)
   for (const players of options.steps) {
+    if (stepping.size === 0) break
     const floor = options.floorSeconds > 0 ? await measureFloor({ clients: players, seconds: options.floorSeconds, pin: pinned }) : null
-    const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true })
-    const step = stepFigures(ours, floor)
-    steps.push(step)
-    console.log(`${players} players: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
-    if (!ours.summary.passed) console.log(formatLeanSummary(ours.summary))
-    if (!step.holds && !options.all) break
+    for (const delivery of options.deliveries) {
+      if (!stepping.has(delivery)) continue
+      const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true, delivery })
+      const step = stepFigures(ours, floor)
+      steps.push(step)
+      console.log(`${players} players, ${delivery}: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerPlayerSecond, 0)} µs per player-second, ${f(step.serverUsPerDrop, 0)} µs per drop, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms${delivery === 'seeds' ? `; seen by the room p99 ${f(step.sightingP99Ms, 0)} ms` : ''}; ${f(step.framesPerSecondPerPlayer, 2)} frames/s and ${f(step.bytesPerSecondPerPlayer / 1000, 2)} KB/s per player; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
+      if (!ours.summary.passed) console.log(formatLeanSummary(ours.summary))
+      if (!step.holds && !options.all) stepping.delete(delivery)
+    }
   }
   const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned })
   console.log(`\n${markdown}`)

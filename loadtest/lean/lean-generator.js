@@ -31,6 +31,7 @@ const DEADLINE_SLACK_MS = 60_000
  * @property {number} [drainS] how long a leaving player waits for its last settles (default 15 s)
  * @property {number} [settleS] pause after the last connect before the window opens (default: 3 s, at most a quarter of the duration)
  * @property {number} [workers] worker threads (default 1)
+ * @property {'snapshots' | 'seeds'} [delivery] the players' `join.delivery` (default snapshots)
  * @property {{ start?: () => void, end?: () => void }} [window] called when the steady window opens and closes (e.g. to read the server's CPU)
  */
 
@@ -67,7 +68,8 @@ export async function runLeanLoad (options) {
   const leaveAt = startAt + rampMs + durationMs
   const windowFrom = startAt + rampMs + settleMs
   const windowTo = leaveAt
-  const plans = Array.from({ length: workerCount }, () => ({ baseUrl, players: [], dropIntervalMs, bet: options.bet ?? 10, drainMs, windowFrom, windowTo }))
+  const delivery = options.delivery ?? 'snapshots'
+  const plans = Array.from({ length: workerCount }, () => ({ baseUrl, players: [], dropIntervalMs, bet: options.bet ?? 10, drainMs, windowFrom, windowTo, delivery }))
   for (let i = 0; i < players; i++) {
     plans[i % workerCount].players.push({ room: rooms[i % rooms.length], connectAt: startAt + (players > 1 ? i / players : 0) * rampMs, leaveAt })
   }
@@ -114,7 +116,7 @@ function runWorker (plan, timeoutMs) {
 function failedWorker (plan, code, detail) {
   return {
     players: plan.players.length, joined: 0, redirects: 0, dropsSent: 0, dropsAcked: 0, dropsRefused: 0, dropsSettled: 0, unsettled: 0, balanceMismatches: 0,
-    frames: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [] }
+    frames: 0, eventFrames: 0, eventsSeen: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [], steadySightingMs: [] }
   }
 }
 
@@ -134,6 +136,8 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
   const overhead = concat('settleOverheadMs')
   const steadyAck = concat('steadyAckMs')
   const steadySettled = concat('steadySettledMs')
+  const steadySighting = concat('steadySightingMs')
+  const delivery = options.delivery ?? 'snapshots'
 
   // The steady window, as each worker counted it.
   let windowFrames = 0
@@ -169,6 +173,7 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
   if (dropsSettled !== dropsAcked) failures.push(`${dropsAcked - dropsSettled} of ${dropsAcked} acknowledged drops not settled`)
   if (dropIntervalMs > 0 && dropsSent === 0) failures.push('no drop was sent')
   if (received === 0) failures.push('no frame received in the steady window')
+  if (delivery === 'seeds' && dropIntervalMs > 0 && players > 1 && sum('eventsSeen') === 0) failures.push('seeds mode: no other player\'s drop was seen')
   return {
     passed: failures.length === 0,
     failures,
@@ -180,6 +185,7 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
     rooms: rooms.length,
     roomsOffered: offered,
     workers: workerCount,
+    delivery,
     dropIntervalMs,
     dropsSent,
     dropsAcked,
@@ -187,6 +193,9 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
     dropsSettled,
     unsettled,
     balanceMismatches: sum('balanceMismatches'),
+    /** Seeds mode: drop-events frames received, and the other players' drops in them. */
+    eventFrames: sum('eventFrames'),
+    eventsSeen: sum('eventsSeen'),
     errors,
     errorCount,
     firstErrors: results.flatMap((result) => result.firstErrors).slice(0, 10),
@@ -196,7 +205,9 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
     /** The same, for the drops sent in the steady window only (no connects, no warm-up). */
     steady: {
       ackMs: { p50: quantile(steadyAck, 0.5), p99: quantile(steadyAck, 0.99), count: steadyAck.length },
-      settledMs: { p50: quantile(steadySettled, 0.5), p99: quantile(steadySettled, 0.99), count: steadySettled.length }
+      settledMs: { p50: quantile(steadySettled, 0.5), p99: quantile(steadySettled, 0.99), count: steadySettled.length },
+      /** Seeds mode: another player's drop, sent → seen by the other sockets of its room (owner and watcher in the same worker). */
+      sightingMs: { p50: quantile(steadySighting, 0.5), p99: quantile(steadySighting, 0.99), count: steadySighting.length }
     },
     window: {
       seconds: windowS,
@@ -230,11 +241,12 @@ export function formatLeanSummary (summary) {
   const s = summary
   const errors = Object.entries(s.errors).map(([code, count]) => `${code} ${count}`).join(', ') || 'none'
   const lines = [
-    `lean generator: ${s.players} players (${s.joined} joined${s.redirects ? `, ${s.redirects} after E_WRONG_NODE to the room's process` : ''}) in ${s.rooms} rooms${s.roomsOffered < s.rooms ? ` (server offers ${s.roomsOffered})` : ''}, ${s.workers} worker thread${s.workers === 1 ? '' : 's'}, one drop per ${s.dropIntervalMs} ms: ${s.passed ? 'PASS' : `FAIL (${s.failures.join('; ')})`}`,
+    `lean generator (${s.delivery} delivery): ${s.players} players (${s.joined} joined${s.redirects ? `, ${s.redirects} after E_WRONG_NODE to the room's process` : ''}) in ${s.rooms} rooms${s.roomsOffered < s.rooms ? ` (server offers ${s.roomsOffered})` : ''}, ${s.workers} worker thread${s.workers === 1 ? '' : 's'}, one drop per ${s.dropIntervalMs} ms: ${s.passed ? 'PASS' : `FAIL (${s.failures.join('; ')})`}`,
     `  drops: ${s.dropsSent} sent, ${s.dropsAcked} acknowledged, ${s.dropsSettled} settled, ${s.dropsRefused} refused, ${s.unsettled} unsettled; balance mismatches ${s.balanceMismatches}; errors: ${errors}`,
     `  drop → dropped p50 / p99: ${round(s.ackMs.p50)} / ${round(s.ackMs.p99)} ms`,
     `  drop → settled p50 / p99: ${round(s.settledMs.p50, 0)} / ${round(s.settledMs.p99, 0)} ms (minus the fall: ${round(s.settleOverheadMs.p50)} / ${round(s.settleOverheadMs.p99)} ms)`,
     `  drops sent in the steady window (${s.steady.ackMs.count}): drop → dropped p50 / p99 ${round(s.steady.ackMs.p50)} / ${round(s.steady.ackMs.p99)} ms, drop → settled ${round(s.steady.settledMs.p50, 0)} / ${round(s.steady.settledMs.p99, 0)} ms`,
+    ...(s.delivery === 'seeds' ? [`  seeds delivery: ${s.eventFrames} drop-events frames, ${s.eventsSeen} other players' drops seen; sent → seen by the room p50 / p99: ${round(s.steady.sightingMs.p50)} / ${round(s.steady.sightingMs.p99)} ms (${s.steady.sightingMs.count} sightings in the steady window)`] : []),
     `  per player: ${round(s.window.framesPerSecondPerPlayer, 2)} frames/s, ${round(s.window.bytesPerSecondPerPlayer / 1000, 2)} KB/s payload (steady window ${round(s.window.seconds)} s, ${Math.round(s.window.receivedPerSecond ?? 0)} frames/s in all)`,
     `  generator CPU: ${round(s.cpu.usPerFrame, 2)} µs per frame received (user ${round(s.cpu.userUsPerFrame, 2)} µs), ${round((s.cpu.shareOfCore ?? 0) * 100)}% of a core; per worker thread: ${s.cpu.perWorker.map((w) => `${round(w.usPerFrame, 2)} µs`).join(', ') || '–'}`
   ]

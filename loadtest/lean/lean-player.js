@@ -27,11 +27,19 @@
  * kind 1: the tick at offset 1; see protocol/snapshot-codec.js). The other
  * players' events in it are never parsed.
  *
+ * In seeds mode (`delivery: "seeds"`, the page's mode) a snapshot or room
+ * frame is an error (X_UNEXPECTED_SNAPSHOT); drop-events frames (kind 3)
+ * are decoded with protocol/drop-events-codec.js, their ticks must
+ * increase (X_TICK_ORDER), and each other player's drop in them is timed
+ * from the moment its owner sent it to its arrival here, when the owner is
+ * a player of the same worker (DropSightings: the two share a clock).
+ *
  * The player holds no socket: `send` writes a text message, and the owner
  * (lean-worker.js) feeds it what arrives, so the checks are tested alone.
  */
 
 import { ownerSocketUrl } from '../k6-lib/scenario-config.js'
+import { decodeDropEvents, DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
 
 const TICK_MS = 1000 / 60
 /** E_WRONG_NODE answers followed before joining; one more is an error (two processes disagreeing). */
@@ -96,6 +104,11 @@ export class PlayerStats {
     this.steadyTo = Infinity
     this.steadyAckMs = new Samples()
     this.steadySettledMs = new Samples()
+    /** Seeds mode: another player's drop, sent by its owner → seen in a drop-events frame here, ms (drops sent in the steady window) */
+    this.steadySightingMs = new Samples()
+    /** Seeds mode: drop-events frames and the other players' drops in them (own drops and repeats excluded). */
+    this.eventFrames = 0
+    this.eventsSeen = 0
     /** The first few errors in words, for the report. */
     this.firstErrors = []
   }
@@ -138,6 +151,55 @@ export function frameTick (buffer, start, end) {
   return (buffer[at + 1] | (buffer[at + 2] << 8) | (buffer[at + 3] << 16)) + buffer[at + 4] * 16777216
 }
 
+/**
+ * When the drops of one worker's players were sent, so that the worker's
+ * other players can time their arrival in drop-events frames on the same
+ * clock. A drop is timed only when its owner is a player of this worker; an
+ * event that comes before its owner's `dropped` waits for it.
+ */
+export class DropSightings {
+  /** @param {PlayerStats} stats */
+  constructor (stats) {
+    this.stats = stats
+    /** @type {Set<string>} */
+    this.players = new Set()
+    /** dropId → sent at (ms) @type {Map<number, number>} */
+    this.sentAt = new Map()
+    /** dropId → arrival times seen before the owner's `dropped` @type {Map<number, number[]>} */
+    this.early = new Map()
+  }
+
+  /** @param {string} playerId a player of this worker */
+  player (playerId) { this.players.add(playerId) }
+
+  /** The owner's `dropped` came. @param {number} dropId @param {number} sentAt */
+  sent (dropId, sentAt) {
+    this.sentAt.set(dropId, sentAt)
+    const early = this.early.get(dropId)
+    if (!early) return
+    this.early.delete(dropId)
+    for (const at of early) this._record(sentAt, at)
+  }
+
+  /** The owner's `settled` came: every frame naming the drop has long gone out. @param {number} dropId */
+  settled (dropId) { this.sentAt.delete(dropId) }
+
+  /** Another player's drop arrived at `at`. @param {number} dropId @param {string} owner @param {number} at */
+  seen (dropId, owner, at) {
+    if (!this.players.has(owner)) return
+    const sentAt = this.sentAt.get(dropId)
+    if (sentAt !== undefined) return this._record(sentAt, at)
+    const early = this.early.get(dropId)
+    if (early) early.push(at)
+    else this.early.set(dropId, [at])
+  }
+
+  _record (sentAt, at) {
+    const stats = this.stats
+    if (sentAt >= stats.steadyFrom && sentAt < stats.steadyTo) stats.steadySightingMs.add(at - sentAt)
+  }
+}
+
 export class LeanPlayer {
   /**
    * @param {object} options
@@ -147,9 +209,13 @@ export class LeanPlayer {
    * @param {(text: string) => void} options.send writes one text message to the server
    * @param {(socketUrl: string) => void} [options.redirect] reconnect to this ws:// URL (the room's process) and play on there
    * @param {() => number} [options.now] ms, the same clock as the arrival times given to receive*()
+   * @param {'snapshots' | 'seeds'} [options.delivery] the `join.delivery` to ask for
+   * @param {DropSightings} [options.sightings] the worker's, to time the other players' drops (seeds mode)
    */
-  constructor ({ room, bet, stats, send, redirect, now = () => performance.now() }) {
+  constructor ({ room, bet, stats, send, redirect, now = () => performance.now(), delivery = 'snapshots', sightings = new DropSightings(stats) }) {
     this.room = room
+    this.delivery = delivery
+    this.sightings = sightings
     this.bet = bet
     this.stats = stats
     this.send = send
@@ -193,7 +259,8 @@ export class LeanPlayer {
         this.balance = milli(message.balance)
         // A new connection (after a redirect: another process, its own ticks).
         this.lastTick = -1
-        this.send(JSON.stringify({ type: 'join', room: this.room }))
+        this.sightings.player(message.playerId)
+        this.send(JSON.stringify(this.delivery === 'seeds' ? { type: 'join', room: this.room, delivery: 'seeds' } : { type: 'join', room: this.room }))
         return
       case 'joined':
         if (!this.joined) {
@@ -228,15 +295,32 @@ export class LeanPlayer {
     return true
   }
 
-  /** A binary frame: counted, and its snapshot tick checked. @param {Uint8Array} buffer @param {number} start @param {number} end */
-  receiveBinary (buffer, start, end) {
+  /** A binary frame: counted, and its snapshot tick checked. @param {Uint8Array} buffer @param {number} start @param {number} end @param {number} [at] arrival time */
+  receiveBinary (buffer, start, end, at = this.now()) {
     const stats = this.stats
     stats.frames++
     stats.bytes += end - start
+    if (this.delivery === 'seeds') return this._dropEvents(buffer, start, end, at)
     const tick = frameTick(buffer, start, end)
     if (tick < 0) return stats.error('X_BAD_FRAME', `binary frame of kind ${buffer[start]}, ${end - start} bytes`)
     if (tick <= this.lastTick) stats.error('X_TICK_ORDER', `snapshot tick ${tick} after ${this.lastTick}`)
     this.lastTick = tick
+  }
+
+  /** Seeds mode: a drop-events frame, decoded; the other players' drops in it timed. */
+  _dropEvents (buffer, start, end, at) {
+    const stats = this.stats
+    if (buffer[start] !== DROP_EVENTS_KIND) return stats.error('X_UNEXPECTED_SNAPSHOT', `binary frame of kind ${buffer[start]} on a seeds socket`)
+    const frame = decodeDropEvents(buffer.subarray(start, end))
+    if (frame === null) return stats.error('X_BAD_FRAME', `drop-events frame of ${end - start} bytes does not decode`)
+    if (frame.tick <= this.lastTick) stats.error('X_TICK_ORDER', `drop-events tick ${frame.tick} after ${this.lastTick}`)
+    this.lastTick = frame.tick
+    stats.eventFrames++
+    for (const event of frame.events) {
+      if (event.player === this.playerId) continue
+      stats.eventsSeen++
+      this.sightings.seen(event.dropId, event.player, at)
+    }
   }
 
   /** Sends one drop (none before `joined` or once leaving). @returns {boolean} sent */
@@ -282,6 +366,7 @@ export class LeanPlayer {
       stats.ackMs.add(at - sentAt)
       if (sentAt >= stats.steadyFrom && sentAt < stats.steadyTo) stats.steadyAckMs.add(at - sentAt)
       this.inFlight.set(message.dropId, sentAt)
+      this.sightings.sent(message.dropId, sentAt)
     }
     this._checkBalance(message, this.balance - message.bet * 1000)
   }
@@ -293,6 +378,7 @@ export class LeanPlayer {
       stats.error('X_UNKNOWN_SETTLE', `settled ${message.dropId} that was never announced to this player`)
     } else {
       this.inFlight.delete(message.dropId)
+      this.sightings.settled(message.dropId)
       stats.dropsSettled++
       const latency = at - sentAt
       stats.settledMs.add(latency)

@@ -14,7 +14,7 @@
  */
 import fs from 'node:fs'
 import { parentPort, workerData } from 'node:worker_threads'
-import { LeanPlayer, PlayerStats } from './lean-player.js'
+import { LeanPlayer, PlayerStats, DropSightings } from './lean-player.js'
 import { LeanSocket } from './lean-socket.js'
 
 const JOIN_TIMEOUT_MS = 30_000
@@ -50,12 +50,14 @@ export function socketTarget (baseUrl) {
  * @property {{ room: string, connectAt: number, leaveAt: number }[]} players epoch ms
  * @property {number} dropIntervalMs @property {number} bet @property {number} drainMs
  * @property {number} windowFrom @property {number} windowTo epoch ms
+ * @property {'snapshots' | 'seeds'} [delivery] the players' `join.delivery` (default snapshots)
  */
 
 /** @param {WorkerPlan} plan @param {(result: object, transfer: ArrayBuffer[]) => void} done */
 export function playWorkerPlan (plan, done) {
   const entry = socketTarget(plan.baseUrl)
   const stats = new PlayerStats()
+  const sightings = new DropSightings(stats)
   const window = {}
   let remaining = plan.players.length
 
@@ -78,7 +80,8 @@ export function playWorkerPlan (plan, done) {
       settledMs: stats.settledMs.toArray(),
       settleOverheadMs: stats.settleOverheadMs.toArray(),
       steadyAckMs: stats.steadyAckMs.toArray(),
-      steadySettledMs: stats.steadySettledMs.toArray()
+      steadySettledMs: stats.steadySettledMs.toArray(),
+      steadySightingMs: stats.steadySightingMs.toArray()
     }
     done({
       players: stats.players,
@@ -91,6 +94,8 @@ export function playWorkerPlan (plan, done) {
       unsettled: stats.unsettled,
       balanceMismatches: stats.balanceMismatches,
       frames: stats.frames,
+      eventFrames: stats.eventFrames,
+      eventsSeen: stats.eventsSeen,
       textMessages: stats.textMessages,
       bytes: stats.bytes,
       errors: Object.fromEntries(stats.errors),
@@ -131,7 +136,7 @@ export function playWorkerPlan (plan, done) {
     let pollTimer = null
     /** @type {LeanSocket} */
     let socket
-    const player = new LeanPlayer({ room, bet: plan.bet, stats, send: (text) => socket.sendText(text), redirect: (socketUrl) => moveTo(socketUrl) })
+    const player = new LeanPlayer({ room, bet: plan.bet, stats, delivery: plan.delivery, sightings, send: (text) => socket.sendText(text), redirect: (socketUrl) => moveTo(socketUrl) })
 
     /** Opens the player's socket to the process at `target` (the entry URL, or the room's owner after E_WRONG_NODE). */
     function open (target) {
@@ -140,8 +145,8 @@ export function playWorkerPlan (plan, done) {
           player.receiveText(text, at)
           if (player.joined && dropTimer === null && phaseTimer === null && !player.leaving) startDropping()
         },
-        onBinary (buffer, start, end) {
-          player.receiveBinary(buffer, start, end)
+        onBinary (buffer, start, end, at) {
+          player.receiveBinary(buffer, start, end, at)
         },
         onError (error) {
           if (closedByUs || current !== socket) return

@@ -140,12 +140,13 @@ export async function measureFloor ({ clients, seconds, pin }) {
 
 /**
  * Our server under the lean generator's reference load (one drop per
- * player every 2 s, 20 Hz snapshots, `rooms` rooms).
+ * player every 2 s, 20 Hz snapshots, `rooms` rooms), its players in
+ * `delivery` mode.
  * @param {{ players: number, rooms?: number, durationS: number, rampS: number, pin: boolean, workers?: number,
- *   env?: Record<string, string>, profileDir?: string, sample?: boolean }} options
+ *   env?: Record<string, string>, profileDir?: string, sample?: boolean, delivery?: 'snapshots' | 'seeds' }} options
  *   sample: read /metrics every second and return the steady window's analysis (loadtest/driver/run-analysis.js)
  */
-export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin, workers = 1, env = {}, profileDir, sample = false }) {
+export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin, workers = 1, env = {}, profileDir, sample = false, delivery = 'snapshots' }) {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-floor-'))
   const server = await startServer({ dataDir: dir, logFile: path.join(dir, 'server.log'), cpus: pin ? '0' : undefined, env, profileDir })
   let from = null
@@ -160,7 +161,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
     }
     const baselineIndex = sampler ? sampler.samples.length - 1 : 0
     const summary = await runLeanLoad({
-      baseUrl: server.url, players, rooms, durationS, rampS, dropIntervalMs: 2000, drainS: 15, workers,
+      baseUrl: server.url, players, rooms, durationS, rampS, dropIntervalMs: 2000, drainS: 15, workers, delivery,
       window: { start: () => { from = read() }, end: () => { to = read() } }
     })
     if (sampler) {
@@ -174,6 +175,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
       summary,
       analysis,
       players,
+      delivery,
       seconds: windowS,
       frames: summary.window.received,
       framesPerSecond: summary.window.received / windowS,

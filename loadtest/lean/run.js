@@ -12,7 +12,7 @@ import os from 'node:os'
 import path from 'node:path'
 import { parseCommandLine } from '../../cli/command-line.js'
 import { optionsOrExit } from '../../cli/usage-error.js'
-import { parseDuration, positiveInteger, loopbackTarget } from '../driver/cli-args.js'
+import { parseDuration, positiveInteger, loopbackTarget, deliveryMode } from '../driver/cli-args.js'
 import { startServer } from '../driver/server-process.js'
 import { readProcStat } from '../driver/metrics-sampler.js'
 import { summarizeCpuProfile } from '../driver/cpu-profile-summary.js'
@@ -29,6 +29,7 @@ export const USAGE = `usage: npm run loadtest:lean -- [options]
   --drain TIME           how long a leaving player waits for its last settles (default 15s)
   --bet N                credits per drop (default 10)
   --workers N            worker threads (default 1)
+  --delivery MODE        the players' join.delivery: snapshots (default) or seeds
   --pin                  the server on CPU 0, the generator on CPU 1 (taskset)
   --profile              run the server under node --cpu-prof and print where its time went in the steady window
   -h, --help
@@ -45,6 +46,7 @@ const OPTIONS = {
   drain: { type: 'string' },
   bet: { type: 'string' },
   workers: { type: 'string' },
+  delivery: { type: 'string' },
   pin: { type: 'boolean', default: false },
   profile: { type: 'boolean', default: false }
 }
@@ -64,6 +66,7 @@ export function parseLeanArgs (argv) {
     drainS: optional('drain', parseDuration, 15),
     bet: optional('bet', positiveInteger, 10),
     workers: optional('workers', positiveInteger, 1),
+    delivery: optional('delivery', deliveryMode, 'snapshots'),
     pin: values.pin,
     profile: values.profile
   }

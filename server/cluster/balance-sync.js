@@ -1,4 +1,5 @@
 import { toCredits } from '../game/money.js'
+import { balanceMessage } from '../../protocol/server-messages.js'
 /** Redis channel on which processes announce the players whose balance they just committed. */
 export const BALANCE_CHANNEL = 'plinko:balances'
 
@@ -73,7 +74,7 @@ export class BalanceSync {
       if (balance === null || account.commits !== commits || balance === account.balance) return
       account.balance = balance
       this.stats.refreshed++
-      for (const connection of account.connections) connection.sendJson({ type: 'balance', balance: toCredits(balance) })
+      for (const connection of account.connections) connection.sendJson(balanceMessage(toCredits(balance)))
     }, (error) => this.log.warn({ err: error, player: playerId }, 'could not re-read a balance')).finally(() => {
       const again = this._refreshing.get(playerId)
       this._refreshing.delete(playerId)

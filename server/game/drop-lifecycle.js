@@ -2,7 +2,8 @@ import { GroupCommit } from '../ledger/group-commit.js'
 import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
 import { gameError } from '../errors.js'
 import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
-import { createDrop, droppedMessage, settledMessage } from './drop.js'
+import { createDrop } from './drop.js'
+import { droppedMessage, settledMessage } from '../../protocol/server-messages.js'
 
 /** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
 const MAX_SETTLE_ATTEMPTS = 5
@@ -137,7 +138,9 @@ export class DropLifecycle {
       drop.room.show(drop)
       this.metrics.drops.inc()
       this.metrics.betTotal.inc(drop.bet)
-      this._broadcast(drop, droppedMessage(drop), toCredits(account.balance))
+      const dropped = droppedMessage(drop)
+      this._sendToOwnerConnections(drop, dropped, toCredits(account.balance))
+      drop.room.dropAnnounced(drop, dropped)
       touched?.add(drop.room)
     }
     for (const settlement of settlements) {
@@ -149,10 +152,12 @@ export class DropLifecycle {
       this.accounts.release(account)
       this.metrics.settles.inc()
       this.metrics.payoutTotal.inc(toCredits(payout))
-      this._broadcast(drop, settledMessage(settlement), toCredits(account.balance))
+      const settled = settledMessage(drop, { ...settlement, payout: toCredits(payout) })
+      this._sendToOwnerConnections(drop, settled, toCredits(account.balance))
+      drop.room.dropSettled(drop, settled)
       touched?.add(drop.room)
     }
-    if (touched) for (const room of touched) room.sendQueuedEvents()
+    if (touched) for (const room of touched) room.flushEvents()
   }
 
   /** A batch was rolled back: refuse its drops (nothing was debited) and retry its settlements. */
@@ -201,17 +206,16 @@ export class DropLifecycle {
   /**
    * Sends a drop event to all of the owner's connections at once (only the
    * owner's copy carries the balance, and only the connection that asked
-   * gets its `ref` back) and queues it for everyone in the room, who get it
-   * with the room's next snapshot (≤ 1/SNAPSHOT_HZ later) in one frame
-   * with the other events. The owner's connections in the room get that
-   * copy too, and skip their own player's events.
+   * gets its `ref` back): in every delivery mode, this is how a player's
+   * balance changes reach it. The room's feeds tell everyone else, each in
+   * its own way and pace (server/realtime/deliveries.js); the owner's
+   * connections in the room get that copy too, and skip their own events.
+   * @param {number} balance the owner's, in credits
    */
-  /** @param {number} balance the owner's, in credits */
-  _broadcast (drop, message, balance) {
+  _sendToOwnerConnections (drop, message, balance) {
     const account = drop.account
     const owner = JSON.stringify({ ...message, balance })
     const type = message.type
-    drop.room.queueEvent(JSON.stringify(message))
     for (const client of account.connections) {
       if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
       else client.sendEvent(owner, type)

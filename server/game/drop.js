@@ -1,9 +1,9 @@
-import { PAYOUT_RULE, toCredits } from './money.js'
+import { PAYOUT_RULE } from './money.js'
 
 /**
  * A drop's record shape, in one place: the in-memory drop from acceptance
- * to settlement, the facts every player is told about it (`dropped`, a late
- * joiner's `balls`), and the rows the ledger writes for it.
+ * to settlement and the rows the ledger writes for it (what players are
+ * told of it is built in protocol/server-messages.js).
  */
 
 /**
@@ -67,32 +67,6 @@ export function createDrop ({ id, account, room, nonce, dropSeed, bet, clientSee
     ref,
     origin
   }
-}
-
-/** What every player may know of a drop: enough to replay its ball from its seed. @param {Drop} drop */
-export function publicDropFacts (drop) {
-  return {
-    dropId: drop.id,
-    player: drop.playerId,
-    slot: drop.slot,
-    serverSeedHash: drop.serverSeedHash,
-    clientSeed: drop.clientSeed,
-    nonce: drop.nonce,
-    dropSeed: drop.dropSeed,
-    engineVersion: drop.engineVersion,
-    bet: drop.bet,
-    startTick: drop.startTick
-  }
-}
-
-/** The `dropped` message (without the owner's balance). @param {Drop} drop */
-export function droppedMessage (drop) {
-  return { type: 'dropped', room: drop.roomId, ...publicDropFacts(drop) }
-}
-
-/** The `settled` message (without the owner's balance), money in credits. @param {Settlement} settlement */
-export function settledMessage ({ drop, bucket, multiplier, payout, ticks, tick, stateHash }) {
-  return { type: 'settled', room: drop.roomId, dropId: drop.id, player: drop.playerId, bet: drop.bet, bucket, multiplier, payout: toCredits(payout), ticks, tick, stateHash }
 }
 
 /** @param {Drop} drop @returns {import('../store/records.js').NewDropRow} */

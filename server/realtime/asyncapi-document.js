@@ -1,5 +1,6 @@
 import { clientMessageSchemas } from './message-schemas.js'
 import { ERROR_CODES } from '../errors.js'
+import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 
 /**
  * The WebSocket protocol (GET /ws) as an AsyncAPI 3.0 document, served at
@@ -77,13 +78,19 @@ export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
     payload: object({
       type: { const: 'joined' },
       room: string,
+      delivery: { enum: DELIVERY_MODES, description: 'how this socket is fed in the room: `join.delivery`, default "snapshots"' },
       board: { type: 'object', description: "the room's board (engine `createBoard` data): replay drops with `simulateDrop(board, dropSeed)`" },
       tick: integer,
       tickRate: { const: 60 },
       snapshotEvery: { type: 'integer', description: 'ticks between two snapshot frames (60 / SNAPSHOT_HZ)' },
       engineVersion: string,
       balls: { type: 'array', items: object({ ...dropFacts, x: { type: 'number' }, y: { type: 'number' } }) }
-    }, ['type', 'room', 'board', 'tick', 'tickRate', 'snapshotEvery', 'engineVersion', 'balls'], { ref })
+    }, ['type', 'room', 'delivery', 'board', 'tick', 'tickRate', 'snapshotEvery', 'engineVersion', 'balls'], {
+      ref,
+      eventEvery: { type: 'integer', description: 'seeds delivery: ticks between two drop-events frames at most often (60 / EVENT_HZ)' },
+      checkEvery: { type: 'integer', description: 'seeds delivery: most ticks between two desync checks while balls are in flight (2 s)' },
+      engineVersions: { type: 'array', items: string, description: 'seeds delivery: the table the drop-events frame\'s engine index points into' }
+    })
   },
   left: {
     summary: 'Reply to `leave`',
@@ -94,7 +101,7 @@ export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
     payload: object({ type: { const: 'pong' }, serverTime: { type: 'integer', description: 'the server\'s clock, epoch ms' } }, ['type', 'serverTime'], { ref })
   },
   dropped: {
-    summary: 'A drop was recorded (its bet debited): to the owner at once, to the room with its next snapshot',
+    summary: 'A drop was recorded (its bet debited): to the owner at once, to snapshots-mode sockets in the room with its next snapshot (seeds-mode sockets get other players\' drops in drop-events frames)',
     payload: object(droppedFields, Object.keys(droppedFields), ownerExtras)
   },
   settled: {
@@ -134,6 +141,10 @@ const BINARY_MESSAGES = {
     summary: 'Snapshot frame: every visible ball\'s position in a room',
     description: 'Binary, little-endian: kind = 1 (uint8), room tick (uint32), S = highest visible slot + 1 (uint16), a presence bitmask of ⌈S/8⌉ bytes, then x and y of each present slot as 11-bit values of round(px·2), packed least-significant bit first. Sent every `snapshotEvery` ticks; decode with protocol/snapshot-codec.js.'
   },
+  dropEvents: {
+    summary: 'Drop-events frame (seeds delivery): other players\' drops and a desync check, instead of positions',
+    description: 'Binary, little-endian: kind = 3 (uint8), room tick (uint32), flight hash (two uint32 words), N (uint16), then N events of 64 bytes: drop id (uint64), bet (uint64), start tick (uint32), slot (uint16), engine version index (uint8), flags (uint8), player id (8 bytes), drop seed (32 bytes). At most every `eventEvery` ticks with the drops announced since the previous frame; with no events, at most every `checkEvery` ticks while balls are in flight. The flight hash is defined in protocol/drop-events-codec.js, which decodes the frame (`decodeDropEvents`).'
+  },
   roomFrame: {
     summary: 'Room frame: the period\'s events and a snapshot in one binary frame',
     description: 'Binary, little-endian: kind = 2 (uint8), L (uint32), the events (`dropped`, `settled`) as a UTF-8 JSON array of L bytes, oldest first, then a snapshot frame. Split with protocol/snapshot-codec.js (`splitRoomFrame`).'
@@ -142,7 +153,7 @@ const BINARY_MESSAGES = {
 
 /** What the client sends, and what answers it. */
 const CLIENT_MESSAGE_DOCS = {
-  join: { summary: 'Join a room: `ROWS-RISK` (e.g. `16-medium`) or an instance `ROWS-RISK.N` (N 2–8)', reply: ['joined', 'error'] },
+  join: { summary: 'Join a room: `ROWS-RISK` (e.g. `16-medium`) or an instance `ROWS-RISK.N` (N 2–8); `delivery` "snapshots" (default: positions) or "seeds" (drop events only, the page simulates)', reply: ['joined', 'error'] },
   leave: { summary: 'Leave the room', reply: ['left', 'error'] },
   drop: { summary: 'Drop a ball: `bet` credits; a `clientSeed` becomes the player\'s client seed in the drop\'s own transaction', reply: ['dropped', 'error'] },
   ping: { summary: 'Round trip; counts against the frame rate like any frame', reply: ['pong'] }

@@ -2,6 +2,8 @@ import { GameError, ERROR_CODES } from '../errors.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
 import { toCredits } from '../game/money.js'
 import { holdWritesUntilEndOfTurn } from './write-batcher.js'
+import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
+import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
 
 /** Messages that may arrive while the token is being checked; more than this is abuse. */
 const MAX_EARLY_MESSAGES = 32
@@ -45,6 +47,8 @@ export class Connection {
     this.account = null
     /** @type {import('../rooms/room.js').Room | null} */
     this.room = null
+    /** How this socket is fed in its room (its `join.delivery`, server/realtime/deliveries.js). @type {import('./deliveries.js').RoomFeed | null} */
+    this.feed = null
     this.closed = false
     this.alive = true
     /** This client IP's shared drop and join buckets (server/realtime/ip-limits.js); null when not behind the route (tests, benchmarks). */
@@ -77,18 +81,17 @@ export class Connection {
     this.account = account
     account.connections.add(this)
     this.arena.connected(this)
-    this.sendJson({
-      type: 'welcome',
+    this.sendJson(welcomeMessage({
       playerId: account.playerId,
       balance: toCredits(account.balance),
       serverSeedHash: account.seed.hash,
       clientSeed: account.clientSeed,
       nonce: account.seed.nextNonce,
       engineVersion: ENGINE_VERSION,
-      tickRate: 60,
+      tickRate: SIMULATION_HZ,
       minBet: this.arena.config.minBet,
       maxBet: this.arena.config.maxBet
-    })
+    }))
     for (const [data, isBinary] of this._early.splice(0)) this._receive(data, isBinary)
     return true
   }
@@ -131,7 +134,7 @@ export class Connection {
       case 'join': {
         if (!this.account.joinLimiter.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRate} joins per second per player`)
         if (this.ipLimits && !this.ipLimits.joins.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRatePerIp} joins per second from one address`)
-        const joined = arena.join(this, message.room)
+        const joined = arena.join(this, message.room, message.delivery)
         // Joining a room this process does not run yet is async (the coordinator claims it).
         if (typeof joined?.then === 'function') {
           joined.then((reply) => this.sendJson(withRef(reply, message.ref)), (error) => this._replyError(error, message.ref))
@@ -141,13 +144,13 @@ export class Connection {
         break
       }
       case 'leave':
-        this.sendJson(withRef({ type: 'left', room: arena.leave(this) }, message.ref))
+        this.sendJson(withRef(leftMessage(arena.leave(this)), message.ref))
         break
       case 'drop':
         arena.drop(this, message)
         break
       case 'ping':
-        this.sendJson(withRef({ type: 'pong', serverTime: Date.now() }, message.ref))
+        this.sendJson(withRef(pongMessage(Date.now()), message.ref))
         break
     }
   }
@@ -179,7 +182,7 @@ export class Connection {
    * limit, the events alone are sent, as `{type:"events"}`. The send queue
    * is read once per frame; the caller counts the frames written (one
    * metrics update per room, not per socket).
-   * @param {Buffer} frame @param {string | null} events the frame's events as a JSON array, or null
+   * @param {Uint8Array} frame @param {string | null} events the frame's events as an `events` message (JSON text), or null
    * @returns {boolean} the frame was written
    */
   sendRoomFrame (frame, events) {
@@ -191,7 +194,25 @@ export class Connection {
     }
     if (queued > this.softLimit) {
       this.metrics.snapshotsSkipped.inc()
-      if (events !== null) this.sendEvent(this.room.eventsMessage(events), 'events')
+      if (events !== null) this.sendEvent(events, 'events')
+      return false
+    }
+    holdWritesUntilEndOfTurn(this.socket)
+    this.socket.send(frame, { binary: true })
+    return true
+  }
+
+  /**
+   * A binary frame of events (the seeds delivery's drop-events frame): never
+   * skipped, like any event; over the hard limit the client is closed. The
+   * caller counts the frames written (one metrics update per room).
+   * @param {Uint8Array} frame
+   * @returns {boolean} the frame was written
+   */
+  sendEventFrame (frame) {
+    if (this.closed) return false
+    if (this.socket.bufferedAmount > this.hardLimit) {
+      this._tooSlow()
       return false
     }
     holdWritesUntilEndOfTurn(this.socket)
@@ -205,7 +226,7 @@ export class Connection {
    */
   sendError (code, message, ref, details) {
     this.metrics.errors.labels(code).inc()
-    const error = { type: 'error', code, message: message ?? ERROR_CODES[code].message, ...details }
+    const error = errorMessage(code, message ?? ERROR_CODES[code].message, details)
     if (ref !== undefined) error.ref = ref
     this.sendJson(error)
   }

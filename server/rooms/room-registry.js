@@ -12,10 +12,14 @@ export class RoomRegistry {
   /**
    * @param {object} options
    * @param {number} options.snapshotEvery ticks between snapshots
+   * @param {number} [options.eventEvery] ticks between drop-events frames (seeds delivery)
+   * @param {number} [options.checkEvery] most ticks between desync checks
    * @param {(room: Room) => void} [options.onChange] after a room is created or disposed
    */
-  constructor ({ snapshotEvery, onChange = () => {} }) {
+  constructor ({ snapshotEvery, eventEvery, checkEvery, onChange = () => {} }) {
     this.snapshotEvery = snapshotEvery
+    this.eventEvery = eventEvery
+    this.checkEvery = checkEvery
     this.onChange = onChange
     /** @type {Map<string, Room>} */
     this.rooms = new Map()
@@ -40,6 +44,8 @@ export class RoomRegistry {
       id: /** @type {string} */ (id),
       board: boardOf(/** @type {string} */ (id)),
       snapshotEvery: this.snapshotEvery,
+      eventEvery: this.eventEvery,
+      checkEvery: this.checkEvery,
       snapshotPhase: this._created++
     })
     this.rooms.set(room.id, room)

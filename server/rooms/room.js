@@ -1,6 +1,9 @@
-import { DropSimulator, BODY_STRIDE, BODY_X, BODY_Y } from '../../engine/index.js'
-import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
-import { publicDropFacts } from '../game/drop.js'
+import { DropSimulator } from '../../engine/index.js'
+import { publicDropFacts } from '../../protocol/server-messages.js'
+
+/** Defaults of what the feeds pace themselves by (config: SNAPSHOT_HZ, EVENT_HZ; a 2 s desync check). */
+const DEFAULT_EVENT_EVERY = 15
+const DEFAULT_CHECK_EVERY = 120
 
 /**
  * One board, its simulator and the connections watching it. Lifecycle:
@@ -11,6 +14,10 @@ import { publicDropFacts } from '../game/drop.js'
  * once the ball has landed. A ball is *visible* (in snapshots and in
  * `joined`) only after its drop has been recorded and announced, so every
  * slot a client sees has been named in a `dropped` message first.
+ *
+ * Its sockets are grouped by delivery mode (server/realtime/deliveries.js),
+ * one feed per mode: the room tells the feeds what happened, each feed
+ * decides what its sockets get.
  */
 export class Room {
   /**
@@ -18,9 +25,11 @@ export class Room {
    * @param {string} options.id
    * @param {import('../../engine/board.js').Board} options.board
    * @param {number} options.snapshotEvery ticks between snapshots
-   * @param {number} [options.snapshotPhase] offset so rooms' snapshots fall on different ticks
+   * @param {number} [options.snapshotPhase] offset so rooms' snapshots (and event frames) fall on different ticks
+   * @param {number} [options.eventEvery] ticks between two drop-events frames of the seeds delivery (60 / EVENT_HZ)
+   * @param {number} [options.checkEvery] most ticks between two desync checks while balls are in flight
    */
-  constructor ({ id, board, snapshotEvery, snapshotPhase = 0 }) {
+  constructor ({ id, board, snapshotEvery, snapshotPhase = 0, eventEvery = DEFAULT_EVENT_EVERY, checkEvery = DEFAULT_CHECK_EVERY }) {
     this.id = id
     this.board = board
     this.rows = board.rows
@@ -30,46 +39,60 @@ export class Room {
     this.tick = 0
     this.snapshotEvery = snapshotEvery
     this.snapshotPhase = snapshotPhase % snapshotEvery
-    /** @type {Set<import('../realtime/connection.js').Connection>} */
+    this.eventEvery = eventEvery
+    this.checkEvery = checkEvery
+    /** Every socket in the room, whatever its mode. @type {Set<any>} */
     this.clients = new Set()
+    /** One feed per delivery mode with sockets here. @type {Map<import('../realtime/deliveries.js').Delivery, import('../realtime/deliveries.js').RoomFeed>} */
+    this.feeds = new Map()
     /** @type {(import('../game/drop.js').Drop | undefined)[]} drop by slot, while in flight */
     this.balls = []
     this.visible = new Uint8Array(64)
     this.visibleCount = 0
-    this._lastSnapshotHadBalls = false
     this._discarded = 0
-    /** `dropped`/`settled` (JSON text) for the room's clients, sent with the next snapshot. */
-    this.pendingEvents = []
   }
 
-  /** Queues an event for everyone in the room; it goes out with the next snapshot (or before a join). @param {string} text */
-  queueEvent (text) {
-    if (this.clients.size > 0) this.pendingEvents.push(text)
+  /**
+   * Adds a socket, fed by `delivery` (its mode, chosen at join).
+   * @param {any} connection @param {import('../realtime/deliveries.js').Delivery} delivery
+   * @returns {import('../realtime/deliveries.js').RoomFeed} the socket's feed
+   */
+  join (connection, delivery) {
+    let feed = this.feeds.get(delivery)
+    if (!feed) {
+      feed = delivery.createFeed(this)
+      this.feeds.set(delivery, feed)
+    }
+    feed.beforeJoin()
+    feed.clients.add(connection)
+    this.clients.add(connection)
+    return feed
   }
 
-  /** The `events` message (JSON text) carrying `events`, a JSON array from takeEvents(). @param {string} events */
-  eventsMessage (events) {
-    return `{"type":"events","room":${JSON.stringify(this.id)},"events":${events}}`
+  /** @param {any} connection @param {import('../realtime/deliveries.js').RoomFeed} feed the one join() gave it */
+  leave (connection, feed) {
+    feed.clients.delete(connection)
+    this.clients.delete(connection)
   }
 
-  /** Sends `events` (from takeEvents()) to the room's clients as an `events` message, with no snapshot. @param {string} events */
-  sendEvents (events) {
-    const text = this.eventsMessage(events)
-    for (const client of this.clients) client.sendEvent(text, 'events')
+  /** A drop was recorded: every feed hears of it. @param {import('../game/drop.js').Drop} drop @param {object} message `dropped`, no balance */
+  dropAnnounced (drop, message) {
+    for (const feed of this.feeds.values()) feed.dropAnnounced(drop, message)
   }
 
-  /** Sends the queued events now, without waiting for the next snapshot. */
-  sendQueuedEvents () {
-    const events = this.takeEvents()
-    if (events !== null) this.sendEvents(events)
+  /** A drop was credited. @param {import('../game/drop.js').Drop} drop @param {object} message `settled`, no balance */
+  dropSettled (drop, message) {
+    for (const feed of this.feeds.values()) feed.dropSettled(drop, message)
   }
 
-  /** The queued events as one JSON array text, or null if none; clears the queue. */
-  takeEvents () {
-    if (this.pendingEvents.length === 0) return null
-    const json = `[${this.pendingEvents.join(',')}]`
-    this.pendingEvents.length = 0
-    return json
+  /** SPECTATOR_EVENTS=immediate: a batch just committed. */
+  flushEvents () {
+    for (const feed of this.feeds.values()) feed.flushNow()
+  }
+
+  /** After the tick's step and commit hand-over: each feed sends what is due. @param {import('../realtime/deliveries.js').DeliveryTally} tally */
+  deliver (tally) {
+    for (const feed of this.feeds.values()) feed.afterTick(tally)
   }
 
   /** Balls of live drops in flight (discarded ones excluded). */
@@ -128,35 +151,6 @@ export class Room {
       if (ball.key.void) { this._discarded--; continue }
       onLanded(ball.key, ball, this.tick)
     }
-  }
-
-  get snapshotDue () {
-    return (this.tick + this.snapshotPhase) % this.snapshotEvery === 0
-  }
-
-  /**
-   * What the room's clients get this snapshot period: `frame` (binary: the
-   * queued events, if any, and the snapshot) and `events` (the queued events
-   * as JSON text, or null), which a client that must skip the snapshot still
-   * gets. Both null when there is nothing to say.
-   * @returns {{ frame: Buffer | null, events: string | null }}
-   */
-  encodeFrame () {
-    const events = this.takeEvents()
-    const snapshot = this.encodeSnapshot()
-    if (snapshot === null) return { frame: null, events }
-    return { frame: events === null ? snapshot : encodeRoomFrame(events, snapshot), events }
-  }
-
-  /**
-   * The snapshot frame for the current tick, or null when there is nothing
-   * new to say (no balls now and none in the previous frame).
-   */
-  encodeSnapshot () {
-    if (this.visibleCount === 0 && !this._lastSnapshotHadBalls) return null
-    this._lastSnapshotHadBalls = this.visibleCount > 0
-    const world = this.simulator.world
-    return encodeSnapshot(this.tick, this.visible, world.bodyCount, world.state, world.state, BODY_STRIDE, BODY_X, BODY_Y)
   }
 
   /** Visible balls with what a late joiner needs to replay them from their seeds. */

@@ -7,15 +7,17 @@ import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
 /** measureOurs()'s shape, with the figures that decide a step. */
-function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {} } = {}) {
+function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null } = {}) {
   return {
     players: 2000,
+    delivery,
     serverShare: 0.8,
+    serverCpuS: 12,
     serverUsPerFrame: 19,
     othersShare: 0.05,
     analysis: { tick: { p99: tickP99 }, tickLag: { p99: lagP99 }, memory: { rssPerClient: 60_000 }, serverErrors },
     summary: {
-      steady: { ackMs: { p50: 10, p99: ackP99 }, settledMs: { p50: 2500, p99: 4000 } },
+      steady: { ackMs: { p50: 10, p99: ackP99, count: 15000 }, settledMs: { p50: 2500, p99: 4000 }, sightingMs: { p50: sightingP99 && sightingP99 / 2, p99: sightingP99 } },
       ackMs: { p99: ackP99 },
       dropsSent: 100,
       dropsSettled: settled,
@@ -37,6 +39,25 @@ describe('capacity steps', () => {
     expect(stepFigures(ours({ serverErrors: { E_SLOW_CONSUMER: 2 } }), floor).failed).toEqual(['0 errors'])
     expect(stepFigures(ours({ settled: 99, unsettled: 1 }), floor).failed).toEqual(['every drop settled'])
     expect(stepFigures(ours({ ackP99: 250 }), null)).toMatchObject({ failed: ['drop → dropped p99 < 250 ms'], ratio: null })
+    // Per player-second and per drop: 80% of a core over 2,000 players; 12 s of CPU over 15,000 drops.
+    expect(stepFigures(ours(), null)).toMatchObject({ delivery: 'snapshots', serverUsPerPlayerSecond: 400, serverUsPerDrop: 800 })
+    // Seeds mode has one criterion more: another player's drop seen by its room within 300 ms, p99.
+    const seen = "another player's drop reaches its room p99 ≤ 300 ms (seeds)"
+    expect(stepFigures(ours({ delivery: 'seeds', sightingP99: 280 }), null)).toMatchObject({ holds: true, sightingP99Ms: 280 })
+    expect(stepFigures(ours({ delivery: 'seeds', sightingP99: 320 }), null).failed).toEqual([seen])
+    expect(stepFigures(ours({ delivery: 'seeds' }), null).failed).toEqual([seen])
+  })
+
+  it('tables both delivery modes side by side, with the best of each', () => {
+    const steps = [
+      stepFigures(ours(), null),
+      stepFigures(ours({ delivery: 'seeds', sightingP99: 260 }), null),
+      stepFigures({ ...ours({ delivery: 'seeds', sightingP99: 400 }), players: 2500 }, null)
+    ]
+    const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: false, date: new Date('2026-12-02T06:00:00Z') })
+    expect(markdown).toContain('**Most players on one server process with every criterion met: snapshots 2,000, seeds 2,000**')
+    expect(markdown).toMatch(/\| 2,000 \| seeds \| 80% \|.*\| 130 \/ 260 ms \|/)
+    expect(markdown).toMatch(/\| 2,500 \| seeds \|.*fails: another player's drop/)
   })
 
   it('writes the table between the markers, replacing the last one, or appends a section', () => {
@@ -44,7 +65,7 @@ describe('capacity steps', () => {
     fs.writeFileSync(file, `# Results\n\nbefore\n\n${BEGIN_MARKER}\nold table\n${END_MARKER}\n\nafter\n`)
     const steps = [stepFigures(ours(), { serverUsPerFrame: 10 }), stepFigures({ ...ours({ ackP99: 300 }), players: 2500 }, { serverUsPerFrame: 10 })]
     const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 30, pinned: true, date: new Date('2026-12-01T20:00:00Z') })
-    expect(markdown).toContain('**Most players on one server process with every criterion met: 2,000**')
+    expect(markdown).toContain('**Most players on one server process with every criterion met: snapshots 2,000**')
     expect(markdown).toContain('| 2,500 |')
     expect(markdown).toContain('fails: drop → dropped p99 < 250 ms')
     writeBetweenMarkers(file, markdown)
@@ -59,7 +80,9 @@ describe('capacity steps', () => {
   })
 
   it('reads its command line', () => {
-    expect(parseCapacityArgs(['--steps', '1000, 2000', '--duration', '20s', '--all', '--no-results'])).toMatchObject({ steps: [1000, 2000], durationS: 20, all: true, writeResults: false, rooms: 100 })
+    expect(parseCapacityArgs(['--steps', '1000, 2000', '--duration', '20s', '--all', '--no-results'])).toMatchObject({ steps: [1000, 2000], durationS: 20, all: true, writeResults: false, rooms: 100, deliveries: ['snapshots', 'seeds'] })
+    expect(parseCapacityArgs(['--delivery', 'seeds'])).toMatchObject({ deliveries: ['seeds'] })
+    expect(() => parseCapacityArgs(['--delivery', 'seeds,pixels'])).toThrow(/--delivery must be one of snapshots, seeds/)
     expect(() => parseCapacityArgs(['--steps', '1000,x'])).toThrow(/positive integer/)
   })
 })

@@ -52,6 +52,22 @@ describe('lean load generator against the real server', () => {
     expect(text).toMatch(/generator CPU: [\d.]+ µs per frame received/)
   })
 
+  it('plays seeds mode: no positions, the other players\' drops decoded from drop-events frames and timed', async () => {
+    const summary = await runLeanLoad({ baseUrl: server.url, players: 20, rooms: 2, durationS: 3, rampS: 1, dropIntervalMs: 500, drainS: 10, workers: 2, delivery: 'seeds' })
+    expect(summary.failures).toEqual([])
+    expect(summary.delivery).toBe('seeds')
+    expect(summary.errorCount).toBe(0) // a snapshot frame would be X_UNEXPECTED_SNAPSHOT
+    expect(summary.dropsSettled).toBe(summary.dropsSent)
+    expect(summary.eventFrames).toBeGreaterThan(0)
+    // Each drop reaches the 9 other players of its room.
+    expect(summary.eventsSeen).toBeGreaterThan(summary.dropsSent)
+    expect(summary.steady.sightingMs.count).toBeGreaterThan(0)
+    expect(summary.steady.sightingMs.p99).toBeGreaterThan(0)
+    const text = formatLeanSummary(summary)
+    expect(text).toContain('lean generator (seeds delivery): 20 players')
+    expect(text).toMatch(/sent → seen by the room p50 \/ p99: [\d.]+ \/ [\d.]+ ms/)
+  })
+
   it('refuses a target that is not on this machine', async () => {
     await expect(runLeanLoad({ baseUrl: 'http://10.0.0.1:8080', players: 1, rooms: 1, durationS: 1 })).rejects.toThrow(/not on this machine/)
   })

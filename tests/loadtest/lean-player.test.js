@@ -1,6 +1,8 @@
 import { describe, it, expect } from 'vitest'
-import { LeanPlayer, PlayerStats, MAX_REDIRECTS, frameTick, milli } from '../../loadtest/lean/lean-player.js'
+import { LeanPlayer, PlayerStats, DropSightings, MAX_REDIRECTS, frameTick, milli } from '../../loadtest/lean/lean-player.js'
 import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
+import { encodeDropEvents } from '../../protocol/drop-events-codec.js'
+import { ENGINE_VERSION } from '../../engine/index.js'
 
 function player ({ balance = 100 } = {}) {
   const stats = new PlayerStats()
@@ -136,5 +138,49 @@ describe('LeanPlayer', () => {
     joined.receiveText(wrongNode('http://127.0.0.1:8080'), 0)
     expect(Object.fromEntries(joinedStats.errors)).toEqual({ E_WRONG_NODE: 1 })
     expect(moves).toHaveLength(MAX_REDIRECTS)
+  })
+
+  it('in seeds mode asks for it, decodes drop-events frames and times another player\'s drop from its owner\'s send on the same clock', () => {
+    const stats = new PlayerStats()
+    stats.steadyFrom = 0
+    stats.steadyTo = 1e9
+    const sightings = new DropSightings(stats)
+    let clock = 0
+    const make = (playerId) => {
+      const sent = []
+      const p = new LeanPlayer({ room: '9-low', bet: 10, stats, delivery: 'seeds', sightings, send: (text) => sent.push(JSON.parse(text)), now: () => clock })
+      p.receiveText(JSON.stringify({ type: 'welcome', playerId, balance: 100 }), 0)
+      p.receiveText(JSON.stringify({ type: 'joined', room: '9-low', delivery: 'seeds' }), 0)
+      return { p, sent }
+    }
+    const owner = make('aaaaaaaaaaaaaaaa')
+    const watcher = make('bbbbbbbbbbbbbbbb')
+    expect(watcher.sent[0]).toEqual({ type: 'join', room: '9-low', delivery: 'seeds' })
+    const event = (id, playerId) => ({ id, bet: 10, startTick: 5, slot: 0, engineVersion: ENGINE_VERSION, playerId, dropSeed: 'c'.repeat(64) })
+    const frame = (tick, events) => encodeDropEvents(tick, '0'.repeat(16), events)
+
+    clock = 1000
+    owner.p.drop()
+    owner.p.receiveText(JSON.stringify({ type: 'dropped', player: 'aaaaaaaaaaaaaaaa', ref: 1, dropId: 7, bet: 10, balance: 90 }), 1010)
+    // Seen by the watcher 180 ms after its owner sent it; by the owner itself, skipped.
+    watcher.p.receiveBinary(frame(30, [event(7, 'aaaaaaaaaaaaaaaa')]), 0, 79, 1180)
+    owner.p.receiveBinary(frame(30, [event(7, 'aaaaaaaaaaaaaaaa')]), 0, 79, 1181)
+    // An event that beats its owner's `dropped` is timed once that comes.
+    clock = 2000
+    owner.p.drop()
+    watcher.p.receiveBinary(frame(45, [event(8, 'aaaaaaaaaaaaaaaa'), event(9, 'cccccccccccccccc')]), 0, 143, 2100)
+    owner.p.receiveText(JSON.stringify({ type: 'dropped', player: 'aaaaaaaaaaaaaaaa', ref: 2, dropId: 8, bet: 10, balance: 80 }), 2150)
+    expect(stats.errorCount).toBe(0)
+    expect(stats.eventFrames).toBe(3)
+    // The watcher saw 7, 8 and 9; 9's owner is no player of this worker: counted, not timed.
+    expect(stats.eventsSeen).toBe(3)
+    expect([...stats.steadySightingMs.toArray()]).toEqual([180, 100])
+
+    // A snapshot on a seeds socket, a truncated frame and a tick going back are errors.
+    watcher.p.receiveBinary(snapshot(50), 0, snapshot(50).length, 2200)
+    const truncated = frame(60, [event(10, 'aaaaaaaaaaaaaaaa')])
+    watcher.p.receiveBinary(truncated, 0, 40, 2300)
+    watcher.p.receiveBinary(frame(40, []), 0, 15, 2400)
+    expect(Object.fromEntries(stats.errors)).toEqual({ X_UNEXPECTED_SNAPSHOT: 1, X_BAD_FRAME: 1, X_TICK_ORDER: 1 })
   })
 })

@@ -1,5 +1,6 @@
 import WebSocket from 'ws'
 import { decodeSnapshot, splitRoomFrame } from '../../../protocol/snapshot-codec.js'
+import { decodeDropEvents, DROP_EVENTS_KIND } from '../../../protocol/drop-events-codec.js'
 
 /**
  * A test player on a real WebSocket. Every JSON message and decoded
@@ -15,6 +16,8 @@ export class GameClient {
     this.snapshots = []
     /** how the room's events arrived: { via: 'room frame' | 'events', events } */
     this.batches = []
+    /** seeds delivery: decoded drop-events frames, { tick, hash, events, bytes, at } (at: ms, performance.now()) */
+    this.eventFrames = []
     this.taken = new Set()
     this.waiters = []
     this.closeEvent = null
@@ -30,7 +33,9 @@ export class GameClient {
       })
     })
     this.socket.on('message', (data, isBinary) => {
-      if (isBinary) {
+      if (isBinary && data[0] === DROP_EVENTS_KIND) {
+        this.eventFrames.push({ ...decodeDropEvents(data), bytes: data.length, at: performance.now() })
+      } else if (isBinary) {
         // A room frame's events read as if each had come on its own, before the snapshot.
         const { events, snapshot } = splitRoomFrame(data)
         if (events.length > 0) this.batches.push({ via: 'room frame', events })

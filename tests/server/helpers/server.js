@@ -60,12 +60,12 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
       clients.push(client)
       return client
     },
-    /** A session plus a client that has joined `room`. */
-    async player (room) {
+    /** A session plus a client that has joined `room` (with `delivery`, if given). */
+    async player (room, { delivery } = {}) {
       const session = await this.session()
       const client = await this.connect(session.token)
       if (room) {
-        client.send({ type: 'join', room })
+        client.send(delivery === undefined ? { type: 'join', room } : { type: 'join', room, delivery })
         client.joined = await client.take('joined')
       }
       return { session, client, token: session.token }

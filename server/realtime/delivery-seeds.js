@@ -1,0 +1,75 @@
+import { ENGINE_VERSIONS } from '../../engine/index.js'
+import { encodeDropEvents, FlightHasher } from '../../protocol/drop-events-codec.js'
+
+/** At most this long (seconds) between two desync checks while balls are in flight. */
+export const DESYNC_CHECK_SECONDS = 2
+
+/**
+ * The `seeds` delivery: the page simulates every ball from its drop seed,
+ * so its sockets get no positions. Its own drops' `dropped`/`settled` (with
+ * the balance) reach the owner at once, as in every mode (drop-lifecycle.js);
+ * this feed sends the room's drop-events frames (protocol/drop-events-codec.js,
+ * encoded once per room): the drops announced since the last frame, on
+ * ticks where (tick + phase) is a multiple of eventEvery (60 / EVENT_HZ), and
+ * on such a tick with nothing announced, a desync check alone when balls are
+ * in flight and none went out for checkEvery ticks. Nothing else: a room
+ * where nothing happens sends nothing. Other players' settlements are not
+ * sent (the page computes the landing; the facts are public over HTTP).
+ * @type {import('./deliveries.js').Delivery}
+ */
+export const seedsDelivery = {
+  name: 'seeds',
+  createFeed: (room) => new SeedFeed(room),
+  joinedFields: (room) => ({ eventEvery: room.eventEvery, checkEvery: room.checkEvery, engineVersions: ENGINE_VERSIONS })
+}
+
+class SeedFeed {
+  /** @param {import('../rooms/room.js').Room} room */
+  constructor (room) {
+    this.room = room
+    /** @type {Set<import('./connection.js').Connection>} */
+    this.clients = new Set()
+    /** @type {import('../game/drop.js').Drop[]} announced since the last frame, oldest first */
+    this.pending = []
+    this.lastFrameTick = -Infinity
+    this.hasher = new FlightHasher()
+  }
+
+  dropAnnounced (drop) {
+    if (this.clients.size > 0) this.pending.push(drop)
+  }
+
+  dropSettled () {}
+
+  /** Nothing to flush: a drop queued now comes again in the next frame, and the joiner skips it by id. */
+  beforeJoin () {}
+
+  flushNow () {}
+
+  /** @param {import('./deliveries.js').DeliveryTally} tally */
+  afterTick (tally) {
+    const room = this.room
+    const tick = room.tick
+    if (this.clients.size === 0 || (tick + room.snapshotPhase) % room.eventEvery !== 0) return
+    if (this.pending.length === 0 && (room.visibleCount === 0 || tick - this.lastFrameTick < room.checkEvery)) return
+    const frame = encodeDropEvents(tick, this._flightHash(), this.pending)
+    this.pending.length = 0
+    this.lastFrameTick = tick
+    let written = 0
+    for (const client of this.clients) if (client.sendEventFrame(frame)) written++
+    tally.eventFrames += written
+    tally.eventBytes += written * frame.length
+  }
+
+  /** The flight hash (drop-events-codec.js) of the room's visible balls at its current tick. */
+  _flightHash () {
+    const room = this.room
+    const world = room.simulator.world
+    const hasher = this.hasher.begin(room.tick)
+    const visible = room.visible
+    for (let slot = 0, count = world.bodyCount; slot < count; slot++) {
+      if (visible[slot] === 1) hasher.add(slot, world.xOf(slot), world.yOf(slot), world.vxOf(slot), world.vyOf(slot))
+    }
+    return hasher.digest()
+  }
+}
