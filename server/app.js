@@ -13,6 +13,7 @@ import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
 import roomRoutes from './routes/rooms.js'
+import clientReportRoutes from './routes/client-reports.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -136,6 +137,7 @@ export async function buildApp (config, options = {}) {
   await app.register(seedRoutes, { arena })
   await app.register(dropRoutes, { arena })
   await app.register(roomRoutes, { arena })
+  await app.register(clientReportRoutes)
   await app.register(healthRoutes, { arena })
   await app.register(realtimeRoutes, { arena })
   await app.register(metricsRoutes, { metrics })
