@@ -1,17 +1,25 @@
 /**
- * The room's tick as the page estimates it now, for a seeds-mode room:
- * every ball is drawn at (this tick − its start tick), so this clock is
- * the page's whole notion of "now" in the room.
+ * The room's tick as the page estimates it, for a seeds-mode room: every
+ * ball is drawn at (render tick − its start tick), so this clock is the
+ * page's whole notion of "now" in the room.
  *
- * Every message that names a room tick (`joined`, a batch of other
- * players' drops, a desync check) is an observation for the tick model
- * (tick-model.js: fitted to the earliest arrivals). What arrived fastest
- * was still one way old, so half the socket's round trip is added. The
- * render tick advances by the frame time, slewed towards that estimate
- * (tick-model.js advanceRenderTick): balls never jump or run backwards.
- * There is no playout buffer: nothing is interpolated between frames from
- * the server, the page's own simulation is, and a drop that arrives late
- * is fast-forwarded to where it is.
+ * Every message that names a room tick (`joined`, a drop-events frame:
+ * a batch of other players' drops or a desync check alone) is an
+ * observation for the tick model (tick-model.js: fitted to the earliest
+ * arrivals, which were still one way old): the room's tick now is the
+ * model's plus half the socket's round trip.
+ *
+ * The page draws the room a little behind that: one way plus
+ * SETTLE_MARGIN_MS. A message the server sends as something happens then
+ * reaches the page before the page draws it happening, whatever the
+ * link: the player's own ball starts at the top of the board (its
+ * `dropped` comes after the drop's commit), and its `settled` (sent when
+ * it lands, after the payout's commit) is there when the ball lands on
+ * screen, so the result is revealed as it lands. Other players' drops,
+ * batched up to 1/EVENT_HZ, may still arrive after their start: they are
+ * fast-forwarded. The render tick advances by the frame time, slewed
+ * towards its target (tick-model.js advanceRenderTick): balls never jump
+ * or run backwards.
  */
 import { TickModel, advanceRenderTick } from './tick-model.js'
 
@@ -19,6 +27,8 @@ import { TickModel, advanceRenderTick } from './tick-model.js'
 const RATE_WINDOW_MS = 10_000
 const RATE_MAX_SAMPLES = 256
 const RATE_MIN_SAMPLES = 6
+/** Covers the server's commit of a drop or a payout before it announces it (a ledger batch). */
+export const SETTLE_MARGIN_MS = 100
 
 export class RoomClock {
   /**
@@ -56,14 +66,20 @@ export class RoomClock {
     return observed + ((this.rttMs() ?? 0) / 2) * this.model.rate
   }
 
+  /** How far behind the room's tick the page draws (ms): one way, and the commit margin. */
+  get delayMs () {
+    return (this.rttMs() ?? 0) / 2 + SETTLE_MARGIN_MS
+  }
+
   /**
    * Advances the render tick to frame time `now` and returns it
    * (fractional), or null before the first observation.
    * @param {number} now ms
    */
   advance (now) {
-    const target = this.estimateAt(now)
-    if (target === null) return null
+    const estimate = this.estimateAt(now)
+    if (estimate === null) return null
+    const target = estimate - this.delayMs * this.model.rate
     const elapsed = this.lastFrameAt === null ? 0 : Math.max(0, now - this.lastFrameAt)
     this.lastFrameAt = now
     this.renderTick = advanceRenderTick(this.renderTick, target, elapsed, this.model.rate, this.stats)
@@ -73,12 +89,6 @@ export class RoomClock {
   /** Nothing to interpolate between in seeds mode: the shape of SnapshotTimeline.bracket(). */
   bracket () {
     return NO_SNAPSHOTS
-  }
-
-  /** How far the drawn tick is behind the estimate (ms): converging after a correction. */
-  get delayMs () {
-    if (this.renderTick === null || this.lastFrameAt === null) return 0
-    return Math.max(0, (this.estimateAt(this.lastFrameAt) - this.renderTick) / this.model.rate)
   }
 }
 

@@ -11,7 +11,7 @@ import { describe, it, expect } from 'vitest'
 import { createBoard, simulateDrop, DropSimulator } from '../../engine/index.js'
 import { FlightHasher } from '../../protocol/drop-events-codec.js'
 import { SeededRoom } from '../../client/seeded-room.js'
-import { RoomClock } from '../../client/room-clock.js'
+import { RoomClock, SETTLE_MARGIN_MS } from '../../client/room-clock.js'
 import { DropVerifier } from '../../client/drop-verifier.js'
 
 const board = createBoard({ rows: 12, risk: 'medium' })
@@ -131,7 +131,7 @@ describe('DropVerifier in seeds mode', () => {
 })
 
 describe('RoomClock', () => {
-  it('follows the room tick from the earliest arrivals plus half the round trip, and never goes backwards', () => {
+  it('follows the room tick (earliest arrivals plus half the round trip), draws one way and the commit margin behind it, and never goes backwards', () => {
     let state = 7
     const random = () => ((state = (Math.imul(state, 1664525) + 1013904223) >>> 0) / 2 ** 32)
     const clock = new RoomClock({ tickRate: 60, rttMs: () => 40 })
@@ -148,10 +148,11 @@ describe('RoomClock', () => {
       if (tick === null) continue
       expect(tick).toBeGreaterThanOrEqual(last)
       last = tick
-      error = tick - now * 60 / 1000
+      error = tick - (now - 20 - SETTLE_MARGIN_MS) * 60 / 1000
     }
-    // At the room's tick now, within a couple of ticks (the jitter's earliest arrivals).
+    // One way and the margin behind the room's tick now, within a couple of ticks (the jitter's earliest arrivals).
     expect(Math.abs(error)).toBeLessThan(2)
+    expect(Math.abs(clock.estimateAt(30_000) - 30_000 * 60 / 1000)).toBeLessThan(2)
     expect(clock.stats.snaps).toBe(0)
   })
 })
