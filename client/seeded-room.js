@@ -82,7 +82,8 @@ export class SeededRoom {
     /** Seeds mode draws no ball it cannot explain. */
     this.unknownDrawn = 0
     this.lastTick = null
-    this.stats = { drops: 0, steps: 0, fastForwarded: 0, fastForwardSteps: 0, checks: 0, mismatches: 0 }
+    /** `frames` and `frameMs`: posesAt() calls and the time they took (the page's own cost per frame, for scripts/page-frame-cost.js) */
+    this.stats = { drops: 0, steps: 0, fastForwarded: 0, fastForwardSteps: 0, checks: 0, mismatches: 0, frames: 0, frameMs: 0 }
     /** @type {{ dropId: number, tick: number, x: number, y: number }[] | null} drawn positions, when tracing */
     this.trace = null
     this._poses = []
@@ -152,6 +153,7 @@ export class SeededRoom {
    * @returns {import('./room-view.js').BallPose[]}
    */
   posesAt (tick) {
+    const started = performance.now()
     const poses = this._poses
     poses.length = 0
     this.lastTick = tick
@@ -190,6 +192,8 @@ export class SeededRoom {
       poses.push(pose)
       if (this.trace && this.trace.length < 50_000) this.trace.push({ dropId: drop.dropId, tick, x: pose.x, y: pose.y })
     }
+    this.stats.frames++
+    this.stats.frameMs += performance.now() - started
     return poses
   }
 

@@ -10,9 +10,12 @@
  * keeps 30, then 100, of them in flight (the mean flight time of the
  * room's board, from the engine). Over a steady window it reads the
  * page's main-thread time (CDP Performance.getMetrics TaskDuration: every
- * task — the frame's simulation and drawing, socket messages, garbage
- * collection) and the frames drawn, and prints main-thread ms per animation
- * frame and frames per second, at 1366×800 and at 390×844 (DPR 2, mobile).
+ * task — the frame's simulation and drawing, the canvas's rasterisation,
+ * socket messages, garbage collection; ScriptDuration: JavaScript alone)
+ * and the frames drawn, and prints main-thread ms per animation frame, the
+ * JavaScript part of it, the seeds simulation's part (SeededRoom.posesAt:
+ * stepping every ball and its pose) and frames per second, at 1366×800
+ * and at 390×844 (DPR 2, mobile), in both delivery modes.
  * Figures go to docs/client.md.
  */
 import fs from 'node:fs'
@@ -67,9 +70,9 @@ try {
 }
 
 console.log(`player page, headless Chromium, CPU throttled ${THROTTLE}×, room ${ROOM}, ${SECONDS} s steady window each; mean flight ${flightSeconds.toFixed(2)} s`)
-console.log('delivery   viewport        balls (target, drawn)  main thread ms/frame  fps    frames')
+console.log('delivery   viewport        balls (target, drawn)  main thread ms/frame  of it JS  of it simulation  fps    frames')
 for (const r of rows) {
-  console.log(`${r.delivery.padEnd(9)}  ${r.size.padEnd(14)}  ${String(r.target).padStart(6)}, ${r.drawn.toFixed(1).padStart(6)}         ${r.msPerFrame.toFixed(2).padStart(8)}          ${r.fps.toFixed(1).padStart(5)}  ${String(r.frames).padStart(6)}`)
+  console.log(`${r.delivery.padEnd(9)}  ${r.size.padEnd(14)}  ${String(r.target).padStart(6)}, ${r.drawn.toFixed(1).padStart(6)}         ${r.msPerFrame.toFixed(2).padStart(8)}         ${r.scriptMsPerFrame.toFixed(2).padStart(6)}    ${r.simMsPerFrame === null ? '     –' : r.simMsPerFrame.toFixed(2).padStart(6)}            ${r.fps.toFixed(1).padStart(5)}  ${String(r.frames).padStart(6)}`)
 }
 
 /** Mean ticks from release to landing on the room's board, in seconds (60 ticks a second). */
@@ -136,6 +139,8 @@ async function measure (base, bots, delivery, size, balls) {
       frames,
       drawn: drawn.reduce((a, b) => a + b, 0) / drawn.length,
       msPerFrame: (after.taskSeconds - before.taskSeconds) * 1000 / frames,
+      scriptMsPerFrame: (after.scriptSeconds - before.scriptSeconds) * 1000 / frames,
+      simMsPerFrame: after.simFrames > before.simFrames ? (after.simMs - before.simMs) / (after.simFrames - before.simFrames) : null,
       fps: frames / ((after.at - before.at) / 1000)
     }
   } finally {
@@ -148,6 +153,7 @@ async function measure (base, bots, delivery, size, balls) {
 
 async function sample (page, cdp) {
   const { metrics } = await cdp.send('Performance.getMetrics')
-  const frames = await page.evaluate(() => window.__plinko.frames)
-  return { at: performance.now(), frames, taskSeconds: metrics.find((m) => m.name === 'TaskDuration').value }
+  const { frames, seeds } = await page.evaluate(() => ({ frames: window.__plinko.frames, seeds: window.__plinko.seeds.room }))
+  const metric = (name) => metrics.find((m) => m.name === name).value
+  return { at: performance.now(), frames, taskSeconds: metric('TaskDuration'), scriptSeconds: metric('ScriptDuration'), simFrames: seeds?.frames ?? 0, simMs: seeds?.frameMs ?? 0 }
 }
