@@ -11,8 +11,8 @@ import { DESYNC_CHECK_SECONDS } from './realtime/delivery-seeds.js'
 /**
  * The game: rooms on one clock and the connections in them. Each tick steps
  * every room, seals the tick's ledger batch and lets each room's feeds
- * (server/realtime/deliveries.js) send what is due. A drop's life (money, record, announcements) is the drop
- * lifecycle's (game/drop-lifecycle.js); which rooms this process may run,
+ * (server/realtime/deliveries.js) send what is due. A drop's life (money,
+ * record, announcements) is the drop lifecycle's (game/drop-lifecycle.js); which rooms this process may run,
  * and where nonces and drop ids come from, the coordinator's
  * (coordination/coordinator.js), the same interface alone or clustered.
  */
@@ -86,7 +86,14 @@ export class Arena {
     }
     this.ledger.flush()
     const tally = this._tally
-    for (const room of this.rooms.values()) if (room.clients.size > 0) room.deliver(tally)
+    for (const room of this.rooms.values()) {
+      if (room.clients.size === 0) continue
+      try {
+        room.deliver(tally)
+      } catch (error) {
+        this.log.error({ err: error, room: room.id }, 'room delivery failed')
+      }
+    }
     this._count(tally)
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)

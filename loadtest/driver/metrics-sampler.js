@@ -126,8 +126,17 @@ export class MetricsSampler {
  * @param {number} pid
  */
 export function readProcStat (pid) {
+  return readStat(`/proc/${pid}/stat`)
+}
+
+/** The same for one thread of a process (its main thread: tid = pid). @param {number} pid @param {number} tid */
+export function readThreadStat (pid, tid) {
+  return readStat(`/proc/${pid}/task/${tid}/stat`)
+}
+
+function readStat (file) {
   try {
-    const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8')
+    const stat = fs.readFileSync(file, 'utf8')
     // Fields after the command name (which may contain spaces) start at ") ".
     const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ')
     const utime = Number(fields[11])

@@ -62,7 +62,7 @@ export function renderReport (run) {
       trendRow('WebSocket connect ms', m.ws_connecting),
       trendRow('POST /api/session ms', m.http_req_duration)
     ]), '')
-    const kinds = ['json', 'snapshot'].map((kind) => [kind, fmt(m[`messages_received{kind:${kind}}`]?.count), fmt(m[`bytes_received{kind:${kind}}`]?.count)])
+    const kinds = ['json', 'snapshot', 'drop_events'].map((kind) => [kind, fmt(m[`messages_received{kind:${kind}}`]?.count), fmt(m[`bytes_received{kind:${kind}}`]?.count)])
     if (kinds.some(([, a]) => a !== '–')) add(table(['received', 'messages', 'bytes'], kinds), '')
     const errorCodes = Object.entries(m).filter(([name, metric]) => name.startsWith('plinko_errors{code:') && metric.count > 0)
       .map(([name, metric]) => [name.slice('plinko_errors{code:'.length, -1), String(metric.count)])

@@ -14,8 +14,8 @@ import { parseCommandLine } from '../../cli/command-line.js'
 import { optionsOrExit } from '../../cli/usage-error.js'
 import { parseDuration, positiveInteger, loopbackTarget, deliveryMode } from '../driver/cli-args.js'
 import { startServer } from '../driver/server-process.js'
-import { readProcStat } from '../driver/metrics-sampler.js'
-import { summarizeCpuProfile } from '../driver/cpu-profile-summary.js'
+import { readProcStat, readThreadStat } from '../driver/metrics-sampler.js'
+import { summarizeCpuProfile, profileParts } from '../driver/cpu-profile-summary.js'
 import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
 import { pinSelf } from './measure-server.js'
 
@@ -82,7 +82,7 @@ async function main () {
     console.log(`server: pid ${server.pid} at ${server.url}${options.pin ? ', pinned to CPU 0' : ''} (log: ${path.join(dir, 'server.log')})`)
   }
   if (options.pin && !pinSelf('1')) console.log('taskset not available: the generator is not pinned')
-  const readServer = () => server ? { at: performance.now(), ns: process.hrtime.bigint(), stat: readProcStat(server.pid) } : null
+  const readServer = () => server ? { at: performance.now(), ns: process.hrtime.bigint(), stat: readProcStat(server.pid), main: readThreadStat(server.pid, server.pid) } : null
   let serverFrom = null
   let serverTo = null
   let summary
@@ -99,18 +99,48 @@ async function main () {
   if (serverFrom?.stat && serverTo?.stat) {
     const seconds = (serverTo.at - serverFrom.at) / 1000
     const cpuS = serverTo.stat.cpuS - serverFrom.stat.cpuS
-    console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received`)
+    const mainS = serverFrom.main && serverTo.main ? serverTo.main.cpuS - serverFrom.main.cpuS : null
+    const drops = summary.steady.ackMs.count
+    console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core${mainS === null ? '' : ` (main thread ${(mainS / seconds * 100).toFixed(1)}%)`}, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received, ${(cpuS * 1e6 / seconds / summary.players).toFixed(0)} µs per player-second, ${drops > 0 ? (cpuS * 1e6 / drops).toFixed(0) : '–'} µs per drop sent in the window`)
   }
-  if (options.profile && server && serverFrom && serverTo) printProfile(path.join(dir, 'profile'), serverFrom.ns, serverTo.ns)
+  if (options.profile && server && serverFrom && serverTo) printProfile(path.join(dir, 'profile'), serverFrom, serverTo, summary.steady.ackMs.count)
   process.exitCode = summary.passed ? 0 : 1
 }
 
-/** Where the server's time went between two process.hrtime readings (V8 profiles use the same monotonic clock, in µs). */
-function printProfile (dir, fromNs, toNs) {
+/**
+ * The parts of a drop's cost on the server's main thread, for the profile's
+ * per-drop table: each sample goes to the deepest frame's part
+ * (cpu-profile-summary.js profileParts). Files are repository paths.
+ */
+export const DROP_COST_PARTS = [
+  { name: 'HMAC drop seed', match: (f) => f.functionName === 'deriveDropSeed' },
+  { name: 'owner replies (dropped, settled: JSON)', match: (f) => f.functionName === '_sendToOwnerConnections' },
+  { name: 'room feeds (events and snapshots: encode, queue)', match: (f) => /^server\/realtime\/delivery-/.test(f.file) || (f.file === 'server/rooms/room.js' && f.functionName === 'deliver') || /^protocol\/(snapshot|drop-events)-codec/.test(f.file) },
+  { name: 'socket writes (every frame, at the end of the turn)', match: (f) => f.file === 'server/realtime/write-batcher.js' || f.file.endsWith('/ws/lib/sender.js') },
+  { name: 'physics (room steps)', match: (f) => f.file.startsWith('engine/') || (f.file === 'server/rooms/room.js' && f.functionName === 'step') },
+  { name: 'ledger commit (group commit, hand-over to the store, apply)', match: (f) => /^server\/(ledger\/group-commit|store\/|game\/ledger-batch|game\/money)/.test(f.file) || f.functionName === '_committed' },
+  { name: 'receiving and validation (ws parser, JSON, schema, checks)', match: (f) => f.file.endsWith('/ws/lib/receiver.js') || f.file === 'server/realtime/message-schemas.js' || f.file === 'server/realtime/connection.js' || f.functionName === 'accept' || f.file.includes('/ajv/') },
+  { name: 'metrics (prom-client)', match: (f) => f.file.includes('/prom-client/') },
+  { name: 'garbage collection', match: (f) => f.functionName === '(garbage collector)' }
+]
+
+/** Where the server's time went between two readings (V8 profiles use process.hrtime's monotonic clock, in µs). */
+function printProfile (dir, from, to, drops) {
   const file = fs.existsSync(dir) ? fs.readdirSync(dir).find((name) => name.endsWith('.cpuprofile')) : null
   if (!file) return console.log(`no .cpuprofile in ${dir}`)
   const profile = JSON.parse(fs.readFileSync(path.join(dir, file), 'utf8'))
-  const summary = summarizeCpuProfile(profile, { top: 20, from: Number(fromNs / 1000n) - profile.startTime, to: Number(toNs / 1000n) - profile.startTime })
+  const window = { from: Number(from.ns / 1000n) - profile.startTime, to: Number(to.ns / 1000n) - profile.startTime }
+  const summary = summarizeCpuProfile(profile, { top: 20, ...window })
+  if (drops > 0 && from.main && to.main) {
+    // The profile's shares of the main thread's busy time, scaled to its CPU time (a loaded machine stretches wall time).
+    const mainUs = (to.main.cpuS - from.main.cpuS) * 1e6
+    const otherThreadsUs = (to.stat.cpuS - from.stat.cpuS) * 1e6 - mainUs
+    const { parts } = profileParts(profile, DROP_COST_PARTS, window)
+    console.log(`\nserver CPU per drop (${drops} drops in the steady window; every frame they cause included):`)
+    for (const part of parts) console.log(`  ${(part.share * mainUs / drops).toFixed(1).padStart(7)} µs  ${part.name}`)
+    console.log(`  ${(otherThreadsUs / drops).toFixed(1).padStart(7)} µs  other threads (the SQLite writer's transactions, GC helpers, and under --profile the profiler's sampling thread)`)
+    console.log(`  ${((mainUs + otherThreadsUs) / drops).toFixed(1).padStart(7)} µs  in all`)
+  }
   const pct = (share) => `${(share * 100).toFixed(1)}%`.padStart(6)
   console.log(`\nserver profile (${path.join(dir, file)}), steady window, ${summary.totalMs.toFixed(0)} ms sampled; share of wall time by area:`)
   for (const area of summary.areas.slice(0, 12)) console.log(`  ${pct(area.share)}  ${area.area}`)

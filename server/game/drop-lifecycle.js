@@ -138,9 +138,7 @@ export class DropLifecycle {
       drop.room.show(drop)
       this.metrics.drops.inc()
       this.metrics.betTotal.inc(drop.bet)
-      const dropped = droppedMessage(drop)
-      this._sendToOwnerConnections(drop, dropped, toCredits(account.balance))
-      drop.room.dropAnnounced(drop, dropped)
+      drop.room.dropAnnounced(drop, this._sendToOwnerConnections(drop, droppedMessage(drop), toCredits(account.balance)))
       touched?.add(drop.room)
     }
     for (const settlement of settlements) {
@@ -153,8 +151,7 @@ export class DropLifecycle {
       this.metrics.settles.inc()
       this.metrics.payoutTotal.inc(toCredits(payout))
       const settled = settledMessage(drop, { ...settlement, payout: toCredits(payout) })
-      this._sendToOwnerConnections(drop, settled, toCredits(account.balance))
-      drop.room.dropSettled(drop, settled)
+      drop.room.dropSettled(drop, this._sendToOwnerConnections(drop, settled, toCredits(account.balance)))
       touched?.add(drop.room)
     }
     if (touched) for (const room of touched) room.flushEvents()
@@ -211,15 +208,19 @@ export class DropLifecycle {
    * its own way and pace (server/realtime/deliveries.js); the owner's
    * connections in the room get that copy too, and skip their own events.
    * @param {number} balance the owner's, in credits
+   * @returns {string} the message as the room sees it (no balance), JSON
    */
   _sendToOwnerConnections (drop, message, balance) {
-    const account = drop.account
-    const owner = JSON.stringify({ ...message, balance })
+    // One JSON encoding per event: the owner's copy is the room's text with the balance
+    // appended, the requester's with its ref too.
+    const text = JSON.stringify(message)
+    const owner = `${text.slice(0, -1)},"balance":${JSON.stringify(balance)}}`
     const type = message.type
-    for (const client of account.connections) {
-      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(JSON.stringify({ ...message, balance, ref: drop.ref }), type)
+    for (const client of drop.account.connections) {
+      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(`${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}`, type)
       else client.sendEvent(owner, type)
     }
+    return text
   }
 
   _sendToOwner (drop, code, message) {

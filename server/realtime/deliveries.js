@@ -16,8 +16,8 @@ import { seedsDelivery } from './delivery-seeds.js'
  *
  * @typedef {object} RoomFeed one room's sockets of one mode, and what they are owed
  * @property {Set<import('./connection.js').Connection>} clients
- * @property {(drop: import('../game/drop.js').Drop, message: object) => void} dropAnnounced a drop was recorded (`dropped` without balance)
- * @property {(drop: import('../game/drop.js').Drop, message: object) => void} dropSettled a drop was credited (`settled` without balance)
+ * @property {(drop: import('../game/drop.js').Drop, text: string) => void} dropAnnounced a drop was recorded (`text`: its `dropped` without balance, JSON)
+ * @property {(drop: import('../game/drop.js').Drop, text: string) => void} dropSettled a drop was credited (`text`: its `settled` without balance, JSON)
  * @property {() => void} beforeJoin a socket is about to get `joined` (its `balls` cover what was announced so far)
  * @property {() => void} flushNow SPECTATOR_EVENTS=immediate: a batch just committed
  * @property {(tally: DeliveryTally) => void} afterTick the room stepped: send what is due

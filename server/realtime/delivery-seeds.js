@@ -50,8 +50,15 @@ class SeedFeed {
   afterTick (tally) {
     const room = this.room
     const tick = room.tick
-    if (this.clients.size === 0 || (tick + room.snapshotPhase) % room.eventEvery !== 0) return
+    if (this.clients.size === 0) {
+      // Nobody to tell: a later joiner gets these balls in `joined` instead.
+      this.pending.length = 0
+      return
+    }
+    if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
     if (this.pending.length === 0 && (room.visibleCount === 0 || tick - this.lastFrameTick < room.checkEvery)) return
+    // A period's drops fit one frame: at most MAX_BALLS_PER_ROOM (≤ 4,096) are in flight,
+    // and no ball lands within one period (≤ 1 s), far below MAX_EVENTS_PER_FRAME.
     const frame = encodeDropEvents(tick, this._flightHash(), this.pending)
     this.pending.length = 0
     this.lastFrameTick = tick

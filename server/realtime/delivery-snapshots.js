@@ -27,11 +27,11 @@ class SnapshotFeed {
     this._lastSnapshotHadBalls = false
   }
 
-  dropAnnounced (drop, message) { this._queue(message) }
-  dropSettled (drop, message) { this._queue(message) }
+  dropAnnounced (drop, text) { this._queue(text) }
+  dropSettled (drop, text) { this._queue(text) }
 
-  _queue (message) {
-    if (this.clients.size > 0) this.pendingEvents.push(JSON.stringify(message))
+  _queue (text) {
+    if (this.clients.size > 0) this.pendingEvents.push(text)
   }
 
   /** Events queued so far concern balls the joiner gets in `balls`: the others get them now. */

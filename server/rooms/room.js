@@ -75,14 +75,14 @@ export class Room {
     this.clients.delete(connection)
   }
 
-  /** A drop was recorded: every feed hears of it. @param {import('../game/drop.js').Drop} drop @param {object} message `dropped`, no balance */
-  dropAnnounced (drop, message) {
-    for (const feed of this.feeds.values()) feed.dropAnnounced(drop, message)
+  /** A drop was recorded: every feed hears of it. @param {import('../game/drop.js').Drop} drop @param {string} text its `dropped`, no balance, JSON */
+  dropAnnounced (drop, text) {
+    for (const feed of this.feeds.values()) feed.dropAnnounced(drop, text)
   }
 
-  /** A drop was credited. @param {import('../game/drop.js').Drop} drop @param {object} message `settled`, no balance */
-  dropSettled (drop, message) {
-    for (const feed of this.feeds.values()) feed.dropSettled(drop, message)
+  /** A drop was credited. @param {import('../game/drop.js').Drop} drop @param {string} text its `settled`, no balance, JSON */
+  dropSettled (drop, text) {
+    for (const feed of this.feeds.values()) feed.dropSettled(drop, text)
   }
 
   /** SPECTATOR_EVENTS=immediate: a batch just committed. */

@@ -1,8 +1,9 @@
 import { describe, it, expect } from 'vitest'
 import Ajv from 'ajv'
-import { useServerOn } from '../server/helpers/server.js'
+import { useServerOn, eventually } from '../server/helpers/server.js'
 import { GameClient } from '../server/helpers/game-client.js'
 import { splitRoomFrame } from '../../protocol/snapshot-codec.js'
+import { decodeDropEvents, DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
 
 /**
  * What a real session receives, checked against the published AsyncAPI
@@ -20,8 +21,10 @@ describe.each(['snapshot', 'immediate'])('WebSocket messages against the AsyncAP
   async function rawClient (token) {
     const client = new GameClient(context.server.wsUrl(token))
     client.raw = []
+    client.dropEvents = []
     client.socket.on('message', (data, isBinary) => {
       if (!isBinary) client.raw.push(JSON.parse(data.toString()))
+      else if (data[0] === DROP_EVENTS_KIND) client.dropEvents.push(decodeDropEvents(data))
       else for (const event of splitRoomFrame(data).events) client.raw.push({ ...event, via: 'room frame' })
     })
     await client.opened
@@ -40,9 +43,12 @@ describe.each(['snapshot', 'immediate'])('WebSocket messages against the AsyncAP
     const watcher = await server.session()
     const player = await rawClient(owner.token)
     const spectator = await rawClient(watcher.token)
+    const seedsWatcher = await rawClient((await server.session()).token)
 
     spectator.send({ type: 'join', room: '8-low', ref: 'watch' })
     await spectator.take('joined')
+    seedsWatcher.send({ type: 'join', room: '8-low', delivery: 'seeds' })
+    expect(await seedsWatcher.take('joined')).toMatchObject({ delivery: 'seeds', eventEvery: 15 })
     player.send({ type: 'join', room: '8-low', ref: 1 })
     await player.take('joined')
     player.send({ type: 'drop', bet: 10, ref: 'd1' })
@@ -50,6 +56,10 @@ describe.each(['snapshot', 'immediate'])('WebSocket messages against the AsyncAP
     const dropped = await player.take('dropped')
     await player.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
     await spectator.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
+    // The seeds socket hears of the drops in drop-events frames (binary, described as dropEvents), never as JSON.
+    await eventually(() => seedsWatcher.dropEvents.some((frame) => frame.events.some((e) => e.dropId === dropped.dropId)))
+    expect(seedsWatcher.raw.filter((m) => m.type === 'dropped' || m.type === 'settled')).toEqual([])
+    expect(messages.dropEvents.contentType).toBe('application/octet-stream')
     player.send({ type: 'ping', ref: 'p' })
     await player.take('pong')
     await player.expectError({ type: 'drop', bet: 10, extra: 1 })
@@ -63,7 +73,7 @@ describe.each(['snapshot', 'immediate'])('WebSocket messages against the AsyncAP
     rejected.socket.on('message', (data) => rejectedFrames.push(JSON.parse(data.toString())))
     expect((await rejected.closed).code).toBe(4401)
 
-    const received = [...player.raw, ...spectator.raw, ...rejectedFrames]
+    const received = [...player.raw, ...spectator.raw, ...seedsWatcher.raw, ...rejectedFrames]
     const types = new Set(received.map((m) => m.type))
     for (const type of ['welcome', 'joined', 'dropped', 'settled', 'pong', 'left', 'error']) expect(types, type).toContain(type)
     if (mode === 'immediate') expect(types).toContain('events')
@@ -77,5 +87,6 @@ describe.each(['snapshot', 'immediate'])('WebSocket messages against the AsyncAP
     expect(validators.settled({ ...received.find((m) => m.type === 'settled'), surprise: true })).toBe(false)
     await player.close()
     await spectator.close()
+    await seedsWatcher.close()
   })
 })

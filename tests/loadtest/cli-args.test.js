@@ -13,7 +13,8 @@ describe('loadtest command line', () => {
 
   it('has defaults that leave scenario timings to the scenario', () => {
     const options = parseArgs([])
-    expect(options).toMatchObject({ scenario: 'players', vus: 50, rooms: 10, dropIntervalS: 2, profile: false, pin: false })
+    expect(options).toMatchObject({ scenario: 'players', vus: 50, rooms: 10, dropIntervalS: 2, profile: false, pin: false, delivery: 'snapshots' })
+    expect(parseArgs(['--delivery', 'seeds']).delivery).toBe('seeds')
     expect(options.durationS).toBeUndefined()
     expect(options.rampS).toBeUndefined()
   })
@@ -25,6 +26,7 @@ describe('loadtest command line', () => {
     expect(() => parseArgs(['--duration', 'soon'])).toThrow(/not a duration/)
     expect(() => parseArgs(['--env', 'no-equals'])).toThrow(/KEY=VALUE/)
     expect(() => parseArgs(['--frobnicate'])).toThrow(/unknown option --frobnicate/)
+    expect(() => parseArgs(['--delivery', 'frames'])).toThrow(/--delivery must be one of snapshots, seeds/)
     expect(() => parseArgs(['spike'])).toThrow(/unexpected argument "spike"/)
     expect(() => parseArgs(['--vus', '--pin'])).toThrow(/--vus needs a value/)
     expect(() => parseArgs(['--pin=yes'])).toThrow(/--pin takes no value/)

@@ -1,10 +1,45 @@
 import path from 'node:path'
 import { pathToFileURL } from 'node:url'
 import { describe, it, expect } from 'vitest'
-import { summarizeCpuProfile, areaOf } from '../../loadtest/driver/cpu-profile-summary.js'
+import { summarizeCpuProfile, areaOf, profileParts } from '../../loadtest/driver/cpu-profile-summary.js'
+import { DROP_COST_PARTS } from '../../loadtest/lean/run.js'
 
 const root = path.resolve(import.meta.dirname, '..', '..')
 const url = (file) => pathToFileURL(path.join(root, file)).href
+
+describe('CPU profile parts (the per-drop table)', () => {
+  it('gives each busy sample to the deepest frame a part claims, idle left out', () => {
+    const frame = (id, functionName, file, children = []) => ({ id, callFrame: { functionName, url: file ? url(file) : '', lineNumber: 0 }, children })
+    const profile = {
+      nodes: [
+        frame(1, '(root)', null, [2, 6, 7, 9]),
+        frame(2, 'tick', 'server/arena.js', [3, 4]),
+        frame(3, 'step', 'server/rooms/room.js', [5]),
+        frame(4, 'deliver', 'server/rooms/room.js'),
+        frame(5, '_advanceBodies', 'engine/world.js'),
+        frame(6, 'flushWrites', 'server/realtime/write-batcher.js', [8]),
+        frame(7, '(idle)', null),
+        frame(8, 'writev', null),
+        frame(9, '_committed', 'server/game/drop-lifecycle.js', [10]),
+        frame(10, '_sendToOwnerConnections', 'server/game/drop-lifecycle.js', [11]),
+        frame(11, 'stringify', null)
+      ],
+      samples: [5, 3, 4, 8, 7, 11, 9, 2],
+      timeDeltas: [100, 100, 100, 100, 100, 100, 100, 100]
+    }
+    const { busyMs, parts } = profileParts(profile, DROP_COST_PARTS)
+    const ms = Object.fromEntries(parts.map((p) => [p.name, p.ms]))
+    expect(busyMs).toBeCloseTo(0.7)
+    expect(ms['physics (room steps)']).toBeCloseTo(0.2)
+    expect(ms['room feeds (events and snapshots: encode, queue)']).toBeCloseTo(0.1)
+    expect(ms['socket writes (every frame, at the end of the turn)']).toBeCloseTo(0.1)
+    // A JSON.stringify under the owner's reply under the commit's apply is the owner's reply.
+    expect(ms['owner replies (dropped, settled: JSON)']).toBeCloseTo(0.1)
+    expect(ms['ledger commit (group commit, hand-over to the store, apply)']).toBeCloseTo(0.1)
+    expect(ms.other).toBeCloseTo(0.1)
+    expect(parts.reduce((sum, p) => sum + p.share, 0)).toBeCloseTo(1)
+  })
+})
 
 describe('CPU profile summary', () => {
   it('attributes self time to functions and areas, and inclusive time to our functions', () => {

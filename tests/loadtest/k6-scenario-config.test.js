@@ -37,4 +37,15 @@ describe('k6 scenario settings', () => {
     expect(options.scenarios.players).toMatchObject({ executor: 'per-vu-iterations', iterations: 1, maxDuration: '120s' })
     expect(options.thresholds).toMatchObject({ plinko_errors: ['count==0'], unsettled_drops: ['count==0'], balance_mismatches: ['count==0'] })
   })
+
+  it('plays snapshots by default and seeds on DELIVERY=seeds, where the jitter threshold gives way to drop events received', () => {
+    expect(readScenarioConfig().delivery).toBe('snapshots')
+    expect(playerScenarioOptions(readScenarioConfig(), 'p').thresholds.snapshot_jitter_ms).toBeDefined()
+    globalThis.__ENV = { DELIVERY: 'seeds' }
+    const options = playerScenarioOptions(readScenarioConfig(), 'p')
+    expect(options.thresholds.snapshot_jitter_ms).toBeUndefined()
+    expect(options.thresholds.drop_events_received).toEqual(['count>0'])
+    globalThis.__ENV = { DELIVERY: 'pixels' }
+    expect(() => readScenarioConfig()).toThrow(/DELIVERY must be one of snapshots, seeds/)
+  })
 })

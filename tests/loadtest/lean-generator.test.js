@@ -146,8 +146,10 @@ describe('lean generator figures and options', () => {
 
   it('reads its command line', () => {
     expect(parseLeanArgs(['--players', '3000', '--rooms', '100', '--duration', '60s', '--drop-interval', '2s', '--workers', '2', '--pin'])).toMatchObject({
-      players: 3000, rooms: 100, durationS: 60, dropIntervalMs: 2000, workers: 2, pin: true
+      players: 3000, rooms: 100, durationS: 60, dropIntervalMs: 2000, workers: 2, pin: true, delivery: 'snapshots'
     })
+    expect(parseLeanArgs(['--delivery', 'seeds'])).toMatchObject({ delivery: 'seeds' })
+    expect(() => parseLeanArgs(['--delivery', 'positions'])).toThrow(/--delivery must be one of snapshots, seeds/)
     expect(parseLeanArgs([])).toMatchObject({ players: 100, rooms: 100, durationS: 30, rampS: 10, dropIntervalMs: 2000, bet: 10, workers: 1, pin: false })
     expect(() => parseLeanArgs(['--players', '0'])).toThrow(/positive integer/)
   })

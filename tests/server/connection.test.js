@@ -76,6 +76,17 @@ describe('Connection backpressure', () => {
     other.socket.bufferedAmount = 5001
     other.connection.sendEvent('{"type":"dropped"}', 'dropped')
     expect(other.socket.closedWith.code).toBe(1013)
+
+    // A drop-events frame (seeds delivery) is an event: never skipped over the soft limit, closed over the hard one.
+    const seeds = setup()
+    seeds.connection.authenticated(seeds.account)
+    const frame = new Uint8Array([3, 0, 0, 0, 0])
+    seeds.socket.bufferedAmount = 4999
+    expect(seeds.connection.sendEventFrame(frame)).toBe(true)
+    expect(seeds.socket.sent.at(-1)).toBe(frame)
+    seeds.socket.bufferedAmount = 5001
+    expect(seeds.connection.sendEventFrame(frame)).toBe(false)
+    expect(seeds.socket.closedWith.code).toBe(1013)
   })
 
   it('handles messages that arrived before authentication, in order, and refuses a flood of them', () => {
