@@ -9,7 +9,9 @@
  */
 import { describe, it, expect } from 'vitest'
 import { createBoard, simulateDrop, DropSimulator } from '../../engine/index.js'
-import { FlightHasher } from '../../protocol/drop-events-codec.js'
+import { FlightHasher, encodeDropEvents } from '../../protocol/drop-events-codec.js'
+import { encodeSnapshot } from '../../protocol/snapshot-codec.js'
+import { applyDropEvents, pageDelivery } from '../../client/seeds-delivery.js'
 import { SeededRoom } from '../../client/seeded-room.js'
 import { RoomClock, SETTLE_MARGIN_MS } from '../../client/room-clock.js'
 import { DropVerifier } from '../../client/drop-verifier.js'
@@ -108,6 +110,36 @@ describe('SeededRoom', () => {
     }
     expect(page.stats.checks).toBe(21)
     expect(page.check(140, '0123456789abcdef').ok).toBe(false)
+  })
+})
+
+describe('a drop-events frame on the page', () => {
+  it('sets the clock, puts only new drops on the board, checks the hash, and is told apart from any other frame', () => {
+    const view = new SeededRoom({ room: '12-medium', board })
+    const clock = new RoomClock({ tickRate: 60 })
+    const known = drop(30, 0)
+    view.add(known)
+    const fresh = drop(31, 2, 1)
+    const wire = (d) => ({ id: d.dropId, bet: d.bet, startTick: d.startTick, slot: d.slot, engineVersion: d.engineVersion, playerId: d.player, dropSeed: d.dropSeed })
+    // The server's hash at tick 9 of both balls, from a page that knows both.
+    const both = new SeededRoom({ room: '12-medium', board })
+    both.add(drop(30, 0))
+    both.add(drop(31, 2, 1))
+    const hash = both.flightHash(9)
+    const added = []
+    const frame = encodeDropEvents(9, hash, [wire(known), wire(fresh)])
+    const add = (event) => { added.push(event.dropId); view.add({ ...drop(31, event.startTick, event.slot), dropId: event.dropId }) }
+    const check = applyDropEvents(frame.buffer.slice(frame.byteOffset, frame.byteOffset + frame.byteLength), 1000, { view, clock, add })
+    expect(added).toEqual([fresh.dropId])
+    expect(check).toMatchObject({ ok: true, tick: 9, server: hash, events: 2, balls: 2 })
+    expect(clock.stats.observations).toBe(1)
+    const forged = encodeDropEvents(12, '0000000000000000', [])
+    expect(applyDropEvents(forged, 1100, { view, clock, add }).ok).toBe(false)
+    const snapshot = encodeSnapshot(5, new Uint8Array(1), 0, new Float64Array(0), new Float64Array(0), 16, 0, 1)
+    expect(applyDropEvents(snapshot, 1200, { view, clock, add })).toBe(null)
+    expect(pageDelivery('')).toBe('seeds')
+    expect(pageDelivery('?delivery=snapshots')).toBe('snapshots')
+    expect(pageDelivery('?delivery=other')).toBe('seeds')
   })
 })
 
