@@ -235,7 +235,7 @@ function onError (message) {
   const run = state.autoRun
   if (typeof message.ref !== 'string' || !run || !run.refs.has(message.ref)) return
   // A refused auto-drop: try that ball again later, or stop when retrying cannot help.
-  if (run.running && (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL')) {
+  if (run.running && (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL' || message.code === 'E_SEED_ROTATING')) {
     run.retry()
     renderAutoButton()
   } else {

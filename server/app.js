@@ -8,7 +8,10 @@ import { Arena } from './arena.js'
 import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
+import { AuthGuard } from './limits/auth-guard.js'
+import { ConnectionLimits, connectionCeiling } from './limits/connection-limits.js'
 import apiDocs from './routes/api-docs.js'
+import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
@@ -63,9 +66,10 @@ export async function buildApp (config, options = {}) {
     keepAliveTimeout: Math.min(KEEP_ALIVE_MS, config.httpIdleTimeoutMs),
     requestTimeout: config.httpRequestTimeoutMs,
     // Node checks for requests past their timeout on this period (default 30 s): a slow
-    // sender (slowloris) is answered 408 and closed within about one period of its deadline.
+    // sender (slowloris) is answered 408 and closed within about one period of its deadline
+    // (its headers' deadline: HTTP_HEADERS_TIMEOUT_MS).
     // Missing Host is refused by requireHost (with a code), not by Node (with an empty body).
-    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs), requireHostHeader: false },
+    http: { connectionsCheckingInterval: Math.min(1000, config.httpHeadersTimeoutMs), headersTimeout: config.httpHeadersTimeoutMs, requireHostHeader: false },
     // Errors raised before routing (a malformed URL such as '/%') get a named code too.
     // Parser errors, header overflow and slow senders get a named code too (routes/client-errors.js).
     clientErrorHandler,
@@ -89,6 +93,14 @@ export async function buildApp (config, options = {}) {
     await store.close().catch(() => {})
     throw error
   }
+  // Connections in total and per peer, the longest idle shed first (limits/connection-limits.js).
+  new ConnectionLimits({
+    maxTotal: connectionCeiling(config.httpMaxConnections),
+    maxPerAddress: config.trustProxy === false ? config.httpMaxConnectionsPerIp : null,
+    metrics
+  }).attach(app.server)
+  const addressLimits = mode.createAddressLimits({ config, log: app.log })
+  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
@@ -100,9 +112,6 @@ export async function buildApp (config, options = {}) {
   }
 
   app.setErrorHandler(replyWithError)
-  app.setNotFoundHandler((request, reply) => {
-    reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
-  })
 
   await app.register(helmet, {
     contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
@@ -116,7 +125,8 @@ export async function buildApp (config, options = {}) {
     errorResponseBuilder: (request, context) => gameError('E_RATE_LIMITED', `rate limit exceeded; retry in ${context.after}`),
     // A request whose socket is already gone (a malformed chunked body, say) has no address:
     // counted under one key rather than crashing the hook with a logged stack trace per request.
-    keyGenerator: (request) => request.ip ?? 'unknown'
+    keyGenerator: (request) => request.ip ?? 'unknown',
+    ...addressLimits.rateLimitOptions
   })
   await app.register(websocket, {
     options: { maxPayload: config.wsMaxPayload },
@@ -133,15 +143,19 @@ export async function buildApp (config, options = {}) {
 
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
-  await app.register(sessionRoutes, { arena })
-  await app.register(seedRoutes, { arena })
-  await app.register(dropRoutes, { arena })
+  // Also before them: 405 with Allow for a method a path does not have, 404 for a path no route has.
+  await app.register(methodNotAllowed, {
+    notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
+  })
+  await app.register(sessionRoutes, { arena, authGuard })
+  await app.register(seedRoutes, { arena, authGuard })
+  await app.register(dropRoutes, { arena, authGuard })
   await app.register(roomRoutes, { arena })
   await app.register(clientReportRoutes)
   await app.register(healthRoutes, { arena })
-  await app.register(realtimeRoutes, { arena })
-  await app.register(metricsRoutes, { metrics })
-  await app.register(auditRoutes, { arena })
+  await app.register(realtimeRoutes, { arena, authGuard })
+  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
+  await app.register(auditRoutes, { arena, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
 
@@ -149,6 +163,7 @@ export async function buildApp (config, options = {}) {
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
     await coordinator.close()
+    await addressLimits.close()
     await store.close()
   })
   return app

@@ -71,6 +71,14 @@ export class Arena {
     return count
   }
 
+  /**
+   * Drops recorded here and not settled yet: balls in flight, and landed
+   * balls whose payout is not written (a failing ledger retries it).
+   */
+  get unsettledDrops () {
+    return this.ballsInFlight + this.drops.unsettled
+  }
+
   /** One tick for every room. */
   tick () {
     let inFlight = 0
@@ -131,7 +139,9 @@ export class Arena {
    * @param {import('./realtime/connection.js').Connection} connection
    * @param {unknown} roomId
    * @param {string} [deliveryName] `join.delivery` (schema-checked): how this socket is fed in the room
-   * @returns {object | Promise<object>} the `joined` message
+   * @returns {object | Promise<object>} the `joined` message: itself when the room runs here, on purpose,
+   *   so a `drop` that follows the `join` in the same TCP chunk (ws emits their messages in one call
+   *   stack, with no microtask between them) finds the room joined; a Promise only when it must be claimed
    */
   join (connection, roomId, deliveryName) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
@@ -213,8 +223,10 @@ export class Arena {
 
   /**
    * Graceful shutdown: no new drops; every ball in flight is played to the
-   * end at once (its outcome is fixed by its seed), settled and committed;
-   * then all connections are closed with 1001 (going away).
+   * end at once (its outcome is fixed by its seed), settled and committed
+   * (a settlement the ledger refuses is tried again after its back-off until
+   * it is written or the caller's shutdown timeout gives up: start-up
+   * recovery then settles it); then all connections are closed with 1001.
    */
   async close () {
     this.stopAccepting()
@@ -226,6 +238,11 @@ export class Arena {
       this.ledger.flush()
     }
     await this.ledger.drain()
+    // Only while a retry is pending: anything else still counted is reported by the caller, not waited for.
+    while (this.drops.unsettled > 0 && this.drops.retryTimers.size > 0) {
+      await this.drops.nextRetry()
+      await this.ledger.drain()
+    }
     for (const connection of [...this.connections]) connection.close(1001, 'server shutting down')
   }
 }

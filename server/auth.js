@@ -31,28 +31,41 @@ export async function playerIdForToken (store, token) {
  * onRequest hook for the operator API (before any schema check). The tokens are compared as SHA-256
  * digests with timingSafeEqual: equal lengths whatever the input, and no
  * early exit that would leak how much of a guess was right.
- * Missing token → 401 E_UNAUTHORIZED; wrong token → 403 E_FORBIDDEN.
- * @param {string} operatorToken
+ * Missing token → 401 E_UNAUTHORIZED; wrong token → 403 E_FORBIDDEN, counted
+ * against the address, which past its budget gets 429 E_RATE_LIMITED for
+ * a while, whatever token it sends (limits/auth-guard.js).
+ * @param {string} operatorToken @param {import('./limits/auth-guard.js').AuthGuard} guard
  */
-export function requireOperator (operatorToken) {
+export function requireOperator (operatorToken, guard) {
   const expected = createHash('sha256').update(operatorToken).digest()
-  return async function operatorOnly (request) {
+  return async function operatorOnly (request, reply) {
+    await guard.admit('operator', request.ip, reply)
     const token = bearerToken(request)
     if (token === null) throw gameError('E_UNAUTHORIZED', 'operator token required: Authorization: Bearer OPERATOR_TOKEN')
     const given = createHash('sha256').update(token).digest()
-    if (!timingSafeEqual(given, expected)) throw gameError('E_FORBIDDEN', 'wrong operator token')
+    if (!timingSafeEqual(given, expected)) {
+      await guard.failed('operator', request.ip)
+      throw gameError('E_FORBIDDEN', 'wrong operator token')
+    }
   }
 }
 
 /**
  * onRequest hook for player routes (before any schema check): sets request.playerId from the bearer token.
+ * An unknown token counts against the address, as a wrong operator token does.
  * @param {{ findPlayerIdByTokenHash: (hash: string) => Promise<string | null> }} store
+ * @param {import('./limits/auth-guard.js').AuthGuard} guard
  */
-export function requirePlayer (store) {
-  return async function playerOnly (request) {
+export function requirePlayer (store, guard) {
+  return async function playerOnly (request, reply) {
+    await guard.admit('player', request.ip, reply)
     const token = bearerToken(request)
+    if (token === null) throw gameError('E_UNAUTHORIZED', 'session token required: Authorization: Bearer TOKEN (POST /api/session creates one)')
     const playerId = await playerIdForToken(store, token)
-    if (!playerId) throw gameError('E_UNAUTHORIZED', token === null ? 'session token required: Authorization: Bearer TOKEN (POST /api/session creates one)' : 'unknown session token')
+    if (!playerId) {
+      await guard.failed('player', request.ip)
+      throw gameError('E_UNAUTHORIZED', 'unknown session token')
+    }
     request.playerId = playerId
   }
 }

@@ -3,6 +3,7 @@ import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import envSchema from 'env-schema'
 import { LOG_FORMATS } from './log-format.js'
+import { operatorTokenWeakness } from './operator-token-strength.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
 const LOG_LEVELS = ['fatal', 'error', 'warn', 'info', 'debug', 'trace', 'silent']
@@ -62,8 +63,8 @@ export const CONFIG_SCHEMA = {
       type: 'string',
       default: '',
       writeOnly: true,
-      anyOf: [{ const: '' }, { minLength: 16 }],
-      errorMessage: 'must be at least 16 characters (or unset to generate one)'
+      anyOf: [{ const: '' }, { minLength: 24 }],
+      errorMessage: 'must be at least 24 characters (or unset to generate one)'
     },
     SNAPSHOT_HZ: oneOf(SNAPSHOT_RATES.map(String), '20'),
     EVENT_HZ: oneOf(SNAPSHOT_RATES.map(String), '4'),
@@ -84,13 +85,21 @@ export const CONFIG_SCHEMA = {
     WS_HARD_BUFFER: integer(1, 1 << 30, '1048576'),
     MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
     HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
+    MONITORING_RATE_LIMIT: integer(1, 1e9, '600'),
+    AUTH_FAILURE_LIMIT: integer(1, 1e9, '10'),
+    AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
     HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    HTTP_HEADERS_TIMEOUT_MS: integer(100, 3600000, '10000'),
+    HTTP_MAX_CONNECTIONS: integer(0, 1e7, '0'),
+    HTTP_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '256'),
     SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
     WS_MAX_CONNECTIONS: integer(1, 1e7, '10000'),
     WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
     WS_MESSAGE_RATE: integer(1, 1e6, '100'),
     WS_MESSAGE_BURST: integer(1, 1e6, '200'),
+    WS_IP_MESSAGE_RATE: integer(1, 1e9, '500'),
+    WS_IP_BYTE_RATE: integer(1024, 1e12, '262144'),
     WS_HEARTBEAT_MS: integer(100, 3600000, '30000'),
     SHUTDOWN_TIMEOUT_MS: integer(100, 3600000, '10000'),
     // See trustProxy() for what each form means.
@@ -150,13 +159,21 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsSoftBuffer bytes queued on a socket above which snapshots are skipped
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
+ * @property {number} monitoringRateLimit requests per IP per minute to /metrics, and apart to /api/health
+ * @property {number} authFailureLimit wrong operator or session tokens per IP per minute before the IP is blocked (limits/auth-failures.js)
+ * @property {number} authBlockMs the first such block; each further one in a row lasts twice as long, up to an hour
  * @property {number} sessionRateLimit new sessions per IP per minute
  * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
  * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
+ * @property {number} httpHeadersTimeoutMs its headers within this (at most httpRequestTimeoutMs)
+ * @property {number} httpMaxConnections HTTP connections in total, WebSockets included (0: 90% of the open-file limit; never more than that)
+ * @property {number} httpMaxConnectionsPerIp HTTP connections per TCP peer address (off behind a proxy: TRUST_PROXY)
  * @property {number} wsMaxConnections open WebSockets in total
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
  * @property {number} wsMessageBurst token bucket capacity for frames per connection
+ * @property {number} wsIpMessageRate frames per second received from one client IP over all its sockets
+ * @property {number} wsIpByteRate payload bytes per second received from one client IP over all its sockets
  * @property {number} wsHeartbeatMs ping interval; a peer that misses a ping is dropped
  * @property {number} shutdownTimeoutMs bound on a graceful shutdown, after which the process exits anyway
  * @property {false | number | string[]} trustProxy which X-Forwarded-For hops to believe (see trustProxy()) @property {string} clientDir
@@ -227,6 +244,8 @@ export function loadConfig (env = process.env) {
   const problems = []
   if (values.MAX_BET < values.MIN_BET) problems.push('MAX_BET must be >= MIN_BET')
   if (values.WS_HARD_BUFFER <= values.WS_SOFT_BUFFER) problems.push('WS_HARD_BUFFER must be > WS_SOFT_BUFFER')
+  const weakness = values.OPERATOR_TOKEN === '' ? null : operatorTokenWeakness(values.OPERATOR_TOKEN)
+  if (weakness) problems.push(`OPERATOR_TOKEN=(value hidden): ${weakness}`)
   if (values.REDIS_URL && !/^postgres(ql)?:\/\//.test(values.DATABASE_URL)) {
     problems.push('REDIS_URL (clustering) needs DATABASE_URL=postgres://…: the processes share one ledger')
   }
@@ -258,13 +277,21 @@ export function loadConfig (env = process.env) {
     wsHardBuffer: values.WS_HARD_BUFFER,
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
+    monitoringRateLimit: values.MONITORING_RATE_LIMIT,
+    authFailureLimit: values.AUTH_FAILURE_LIMIT,
+    authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
     httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
+    httpHeadersTimeoutMs: Math.min(values.HTTP_HEADERS_TIMEOUT_MS, values.HTTP_REQUEST_TIMEOUT_MS),
+    httpMaxConnections: values.HTTP_MAX_CONNECTIONS,
+    httpMaxConnectionsPerIp: values.HTTP_MAX_CONNECTIONS_PER_IP,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
     wsMaxConnections: values.WS_MAX_CONNECTIONS,
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,
     wsMessageRate: values.WS_MESSAGE_RATE,
     wsMessageBurst: values.WS_MESSAGE_BURST,
+    wsIpMessageRate: values.WS_IP_MESSAGE_RATE,
+    wsIpByteRate: values.WS_IP_BYTE_RATE,
     wsHeartbeatMs: values.WS_HEARTBEAT_MS,
     shutdownTimeoutMs: values.SHUTDOWN_TIMEOUT_MS,
     trustProxy: trustProxy(values.TRUST_PROXY),

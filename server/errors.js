@@ -20,10 +20,12 @@ export const ERROR_CODES = Object.freeze({
   E_NOT_IN_ROOM: { status: 400, message: 'join a room first' },
   E_UNKNOWN_ROOM: { status: 404, message: 'no such room; room ids are ROWS-RISK or ROWS-RISK.N with rows 8..16, risk low, medium or high and N 2..8' },
   E_ROOM_FULL: { status: 409, message: 'too many balls in flight in this room; try again shortly' },
+  E_SEED_ROTATING: { status: 409, message: 'your server seed is being rotated; drop again once the rotation is answered' },
   E_RATE_LIMITED: { status: 429, message: 'too many requests; slow down' },
   E_UNAUTHORIZED: { status: 401, message: 'missing or invalid token', close: 4401 },
   E_FORBIDDEN: { status: 403, message: 'not allowed' },
   E_NOT_FOUND: { status: 404, message: 'not found' },
+  E_METHOD_NOT_ALLOWED: { status: 405, message: 'this path does not have this method; the Allow header lists the ones it has' },
   E_SLOW_CONSUMER: { status: 503, message: 'client is not reading fast enough', close: 1013 },
   E_TOO_MANY_CONNECTIONS: { status: 429, message: 'too many WebSocket connections from this address or to this server; close one or try again later', close: 4429 },
   E_UNAVAILABLE: { status: 503, message: 'server is shutting down' },
@@ -31,7 +33,7 @@ export const ERROR_CODES = Object.freeze({
   // Clustering (server/cluster/): the reply to `join` carries `room`, and `owner` (a URL) or `retryAfterMs`.
   E_WRONG_NODE: { status: 421, message: 'this room runs on another server process; reconnect to `owner` (its /ws) and join again' },
   E_ROOM_MOVING: { status: 503, message: 'the process that ran this room stopped answering; retry after `retryAfterMs`' },
-  E_SEED_ROTATED: { status: 409, message: 'the server seed was rotated by another connection; reconnect to use the new one' }
+  E_SEED_ROTATED: { status: 409, message: 'the server seed was rotated by another connection; drop again to use the new one' }
 })
 
 /** A named, expected failure: its code decides the HTTP status and the protocol reply. */

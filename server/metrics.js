@@ -40,6 +40,11 @@ export function createMetrics ({ defaultMetrics = true } = {}) {
     bytesOut: new Counter({ name: 'plinko_ws_bytes_out_total', help: 'WebSocket payload bytes sent', registers }),
     snapshotsSkipped: new Counter({ name: 'plinko_snapshots_skipped_total', help: 'Snapshots not sent to a client because its send buffer was over the soft limit', registers }),
     slowConsumersClosed: new Counter({ name: 'plinko_ws_slow_consumers_closed_total', help: 'Connections closed because their send buffer passed the hard limit', registers }),
+    httpConnections: new Gauge({ name: 'plinko_http_connections', help: 'Open HTTP connections (upgraded WebSockets included)', registers }),
+    httpConnectionsShed: new Counter({ name: 'plinko_http_connections_shed_total', help: 'Idle HTTP connections closed to make room for a new one, by the cap reached (per_address or total)', labelNames: ['reason'], registers }),
+    httpConnectionsRefused: new Counter({ name: 'plinko_http_connections_refused_total', help: 'New HTTP connections refused at a cap with none idle to shed, by the cap (per_address or total)', labelNames: ['reason'], registers }),
+    authFailures: new Counter({ name: 'plinko_auth_failures_total', help: 'Wrong operator or session tokens presented, by kind', labelNames: ['kind'], registers }),
+    authThrottled: new Counter({ name: 'plinko_auth_throttled_total', help: 'Authenticating requests refused with 429 because their address had too many wrong tokens, by kind', labelNames: ['kind'], registers }),
     errors: new Counter({ name: 'plinko_errors_total', help: 'Protocol and HTTP errors returned, by code', labelNames: ['code'], registers }),
     /** Pre-bound children for the hot path (label lookup once). */
     snapshotOut: messagesOut.labels('snapshot'),

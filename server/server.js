@@ -62,16 +62,19 @@ function count (n, noun) {
 
 /**
  * The graceful stop: balls in flight settled, connections closed with 1001,
- * then one last line with what was settled and closed and the exit code.
+ * then one last line with what was settled and closed and the exit code
+ * (1 whenever a drop is left unsettled: its payout could not be written).
  * @param {string} signal
  */
 function shutDown (signal) {
   const stopping = Date.now()
-  const before = { balls: app.arena.ballsInFlight, sockets: app.websocketServer.clients.size }
+  const before = { balls: app.arena.unsettledDrops, sockets: app.websocketServer.clients.size }
   app.log.info({ signal, dropsInFlight: before.balls, sockets: before.sockets }, 'shutting down')
   /** The last line: what was settled and closed, and the exit code; then exit. */
   const finish = (exitCode, outcome, extra = {}) => {
-    const left = { balls: app.arena.ballsInFlight, sockets: app.websocketServer.clients.size }
+    const left = { balls: app.arena.unsettledDrops, sockets: app.websocketServer.clients.size }
+    // A drop left unsettled (the ledger would not take its payout) is a failed stop, whatever else went well.
+    if (left.balls > 0) exitCode = Math.max(exitCode, 1)
     const report = {
       signal,
       exitCode,
@@ -83,7 +86,7 @@ function shutDown (signal) {
       ...extra
     }
     const summary = `${count(report.dropsSettled, 'drop')} in flight settled, ${count(report.socketsClosed, 'socket')} closed` +
-      (left.balls > 0 ? `, ${count(left.balls, 'drop')} still in flight` : '') +
+      (left.balls > 0 ? `, ${count(left.balls, 'drop')} NOT settled (start-up recovery settles them)` : '') +
       (left.sockets > 0 ? `, ${count(left.sockets, 'socket')} still open` : '')
     app.log[exitCode === 0 ? 'info' : 'error'](report, `${outcome}: ${summary}; exit code ${exitCode}`)
     process.exit(exitCode)

@@ -63,7 +63,7 @@ export function startBanner (config, { urls, logs, node = process.version }) {
       ? `clustered: rooms leased through Redis ${hidePassword(config.redisUrl)}; this process is ${config.publicUrl || main}`
       : 'one process alone: every room, nonce and drop id here'],
     ['operator', config.operatorTokenGenerated
-      ? `OPERATOR_TOKEN was not set; generated for this run: ${config.operatorToken}\n            (set OPERATOR_TOKEN, at least 16 characters, to keep one across restarts)`
+      ? `OPERATOR_TOKEN was not set; generated for this run: ${config.operatorToken}\n            (set OPERATOR_TOKEN, 32 random bytes in hex, to keep one across restarts)`
       : 'OPERATOR_TOKEN from the environment (not shown)'],
     ['logs', logs === 'pretty' ? 'pretty, below (LOG_FORMAT=json for JSON lines)' : 'JSON lines, below (pretty ones need the dev dependency pino-pretty)'],
     ['stop', 'Ctrl-C: plays every ball in flight to its end, settles it, closes the sockets, exits']

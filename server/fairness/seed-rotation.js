@@ -4,10 +4,14 @@ import { newServerSeed } from './seeds.js'
 /**
  * Seed changes go through the ledger queue, after every drop accepted
  * before them and before every drop accepted after them.
- * - A rotation switches the in-memory account only once it is committed:
- *   drops accepted while it is being written still use the old seed (their
- *   drop seeds were fixed before the reveal went out), and the reply reports
- *   how many nonces the old seed served in all.
+ * - A rotation stops the player's drops from the moment it is asked for
+ *   until it is answered (E_SEED_ROTATING, nothing debited): the drops
+ *   accepted before it are written before it, none is taken on the old seed
+ *   after, so no drop is ever recorded on a seed after its `revealed_at`
+ *   (stamped once those drops are written). It switches the in-memory
+ *   account once committed, tells the other processes (a cluster's workers
+ *   switch before it answers), and the reply reports how many nonces the old
+ *   seed served in all.
  * - A client seed takes effect when the server receives it, exactly as a
  *   `drop { clientSeed }` does: memory now, the ledger in the same order
  *   (the queue), so whichever of the two paths came last holds in both.
@@ -19,20 +23,33 @@ import { newServerSeed } from './seeds.js'
  * @param {import('../ledger/accounts.js').Account} account
  */
 export async function rotateServerSeed (arena, account) {
-  return arena.ledger.run(async () => {
-    const old = account.seed
-    const fresh = newServerSeed()
-    await arena.store.rotateSeed({ playerId: account.playerId, oldSeedId: old.id, newSeed: fresh, at: Date.now() })
-    account.seed = { ...fresh, nextNonce: 0 }
-    return {
-      previousServerSeed: old.seed,
-      previousServerSeedHash: old.hash,
-      previousNonce: old.nextNonce,
-      serverSeedHash: fresh.hash,
-      clientSeed: account.clientSeed,
-      nonce: 0
-    }
-  })
+  account.seedRotations++
+  try {
+    const reply = await arena.ledger.run(async () => {
+      const old = account.seed
+      const fresh = newServerSeed()
+      // Every drop on `old` is written by now (the queue), each stamped before this.
+      await arena.store.rotateSeed({ playerId: account.playerId, oldSeedId: old.id, newSeed: fresh, at: Date.now() })
+      account.seed = { ...fresh, nextNonce: 0 }
+      return {
+        previousServerSeed: old.seed,
+        previousServerSeedHash: old.hash,
+        previousNonce: old.nextNonce,
+        serverSeedHash: fresh.hash,
+        clientSeed: account.clientSeed,
+        nonce: 0
+      }
+    })
+    // Before the answer (and outside the ledger queue): the next drop on any process uses the new seed.
+    await arena.coordinator.seedRotated(account)
+    return reply
+  } catch (error) {
+    // Rotated by another process first (clustered): this one held an old seed.
+    if (error?.code === 'E_SEED_ROTATED') arena.coordinator.seedOutdated(account)
+    throw error
+  } finally {
+    account.seedRotations--
+  }
 }
 
 /**

@@ -5,8 +5,14 @@ import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
 import { createDrop } from './drop.js'
 import { droppedMessage, settledMessage } from '../../protocol/server-messages.js'
 
-/** Give up re-trying a settlement after this many failed commits; start-up recovery finishes it. */
-const MAX_SETTLE_ATTEMPTS = 5
+/**
+ * A settlement whose commit failed is tried again after a back-off that
+ * doubles from the first delay up to the last, for as long as the process
+ * lives: a storage fault of a few seconds (a full disk) delays a payout, it
+ * never strands it until a restart.
+ */
+export const SETTLE_RETRY_FIRST_MS = 100
+export const SETTLE_RETRY_MAX_MS = 2000
 
 /**
  * A drop's whole life, in one place:
@@ -21,8 +27,9 @@ const MAX_SETTLE_ATTEMPTS = 5
  *   apply    once committed: the payout is credited, `settled` announced
  *
  * A drop the ledger refuses or cannot write is forgotten (nothing was
- * debited); a settlement that fails is retried, then left to start-up
- * recovery. Nothing is announced before it is durable.
+ * debited); a settlement that fails is retried with back-off until it is
+ * written (start-up recovery settles what a stop leaves). Nothing is
+ * announced before it is durable.
  */
 export class DropLifecycle {
   /**
@@ -47,6 +54,12 @@ export class DropLifecycle {
       onCommitted: (batch, outcome) => this._committed(batch, outcome),
       onFailed: (batch, error) => this._failed(batch, error)
     })
+    /** @type {Set<import('./drop.js').Settlement>} landed, not yet committed */
+    this.settling = new Set()
+    /** @type {Map<import('./drop.js').Settlement, NodeJS.Timeout>} failed, waiting for their retry */
+    this.retryTimers = new Map()
+    /** @type {Array<() => void>} */
+    this._retryWaiters = []
     /** Passed to Room.step: called for each ball that landed. */
     this.landed = (drop, landed, tick) => this._landed(drop, landed, tick)
   }
@@ -66,6 +79,8 @@ export class DropLifecycle {
     if (!Number.isSafeInteger(bet) || bet < minBet || bet > maxBet) throw gameError('E_BAD_BET', `bet must be an integer from ${minBet} to ${maxBet}`)
     if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
     const account = connection.account
+    // Its seed is about to be revealed (fairness/seed-rotation.js): no drop may be recorded on it after that.
+    if (account.seedRotations > 0) throw gameError('E_SEED_ROTATING')
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
     if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
     if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
@@ -97,8 +112,39 @@ export class DropLifecycle {
     return drop
   }
 
+  /** Drops whose ball landed but whose payout is not written yet (the ledger may be failing). */
+  get unsettled () {
+    this._forgetVoid()
+    return this.settling.size
+  }
+
+  /** Settlements that failed at least once and are not written yet: /api/health reports `degraded`. */
+  get settlementsWaiting () {
+    this._forgetVoid()
+    let waiting = 0
+    for (const settlement of this.settling) if (settlement.attempts > 0) waiting++
+    return waiting
+  }
+
+  /** A drop whose own batch failed is never settled (group-commit.js drops its settlement). */
+  _forgetVoid () {
+    for (const settlement of this.settling) if (settlement.drop.void) this.settling.delete(settlement)
+  }
+
+  /** Resolves when the next settlement's back-off ends and it is queued (at once if none waits). */
+  nextRetry () {
+    if (this.retryTimers.size === 0) return Promise.resolve()
+    return new Promise((resolve) => this._retryWaiters.push(resolve))
+  }
+
+  _retry (settlement) {
+    this.retryTimers.delete(settlement)
+    this.ledger.addSettlement(settlement)
+    for (const resolve of this._retryWaiters.splice(0)) resolve()
+  }
+
   _landed (drop, landed, tick) {
-    this.ledger.addSettlement({
+    this._settle({
       drop,
       bucket: landed.bucket,
       multiplier: landed.multiplier,
@@ -109,6 +155,12 @@ export class DropLifecycle {
       settledAt: Date.now(),
       attempts: 0
     })
+  }
+
+  /** @param {import('./drop.js').Settlement} settlement */
+  _settle (settlement) {
+    this.settling.add(settlement)
+    this.ledger.addSettlement(settlement)
   }
 
   /**
@@ -128,6 +180,7 @@ export class DropLifecycle {
       const account = drop.account
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
+        if (refused === 'E_SEED_ROTATED') this.coordinator.seedOutdated(account)
         this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
         continue
       }
@@ -144,6 +197,8 @@ export class DropLifecycle {
     for (const settlement of settlements) {
       const { drop, payout } = settlement
       const account = drop.account
+      this.settling.delete(settlement)
+      if (settlement.attempts > 0) this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
       account.commits++
       // Settled by another process (a shared ledger after a takeover): not credited here.
       account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
@@ -162,14 +217,13 @@ export class DropLifecycle {
     this.log.error({ err: error, drops: drops.length, settlements: settlements.length }, 'ledger commit failed')
     for (let i = drops.length - 1; i >= 0; i--) this._refuse(drops[i], 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
     for (const settlement of settlements) {
-      if (++settlement.attempts < MAX_SETTLE_ATTEMPTS) {
-        this.ledger.addSettlement(settlement)
-        continue
+      // Still in flight in the ledger (a stop now leaves it to start-up recovery): tried again after a back-off.
+      const delay = Math.min(SETTLE_RETRY_MAX_MS, SETTLE_RETRY_FIRST_MS * 2 ** Math.min(settlement.attempts, 20))
+      if (++settlement.attempts === 1) {
+        this.log.error({ dropId: settlement.drop.id }, 'settlement not written; retrying until it is')
+        this._sendToOwner(settlement.drop, 'E_INTERNAL', 'the settlement is delayed; it will be credited as soon as the ledger can be written')
       }
-      // Left in flight in the ledger: start-up recovery settles it from its seed.
-      this.log.error({ dropId: settlement.drop.id }, 'giving up settling drop until restart')
-      this.accounts.release(settlement.drop.account)
-      this._sendToOwner(settlement.drop, 'E_INTERNAL', 'the settlement is delayed; it will be credited when the server restarts')
+      this.retryTimers.set(settlement, setTimeout(() => this._retry(settlement), delay).unref())
     }
   }
 

@@ -21,6 +21,8 @@ export class Account {
     this.createdAt = state.createdAt
     /** The active server seed; `nextNonce` is taken (and never given back) when a drop is accepted. */
     this.seed = state.seed
+    /** Rotations of the server seed asked for and not yet answered: drops wait for them (E_SEED_ROTATING). */
+    this.seedRotations = 0
     this.dropLimiter = new TokenBucket({ rate: limits.dropRate, burst: limits.dropBurst })
     /** Batches for this player committed by this process: a balance re-read from another process's notice is stale if this moved meanwhile. */
     this.commits = 0

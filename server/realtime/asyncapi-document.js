@@ -1,5 +1,7 @@
 import { clientMessageSchemas } from './message-schemas.js'
 import { ERROR_CODES } from '../errors.js'
+import { SNAPSHOT_KIND, ROOM_FRAME_KIND } from '../../protocol/snapshot-codec.js'
+import { DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
 import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 
 /**
@@ -135,29 +137,50 @@ export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
   }
 })
 
-/** The binary frames, described (their layout is in the README). */
+/**
+ * The binary frames, described (their layout is in docs/protocol.md); each
+ * names its first byte (`x-frame-kind`), so a client (and the protocol test)
+ * can tell the frames apart.
+ */
 const BINARY_MESSAGES = {
   snapshot: {
+    kind: SNAPSHOT_KIND,
     summary: 'Snapshot frame: every visible ball\'s position in a room',
     description: 'Binary, little-endian: kind = 1 (uint8), room tick (uint32), S = highest visible slot + 1 (uint16), a presence bitmask of ⌈S/8⌉ bytes, then x and y of each present slot as 11-bit values of round(px·2), packed least-significant bit first. Sent every `snapshotEvery` ticks; decode with protocol/snapshot-codec.js.'
   },
   dropEvents: {
+    kind: DROP_EVENTS_KIND,
     summary: 'Drop-events frame (seeds delivery): other players\' drops and a desync check, instead of positions',
     description: 'Binary, little-endian: kind = 3 (uint8), room tick (uint32), flight hash (two uint32 words), N (uint16), then N events of 64 bytes: drop id (uint64), bet (uint64), start tick (uint32), slot (uint16), engine version index (uint8), flags (uint8), player id (8 bytes), drop seed (32 bytes). At most every `eventEvery` ticks with the drops announced since the previous frame; with no events, at most every `checkEvery` ticks while balls are in flight. The flight hash is defined in protocol/drop-events-codec.js, which decodes the frame (`decodeDropEvents`).'
   },
   roomFrame: {
+    kind: ROOM_FRAME_KIND,
     summary: 'Room frame: the period\'s events and a snapshot in one binary frame',
     description: 'Binary, little-endian: kind = 2 (uint8), L (uint32), the events (`dropped`, `settled`) as a UTF-8 JSON array of L bytes, oldest first, then a snapshot frame. Split with protocol/snapshot-codec.js (`splitRoomFrame`).'
   }
 }
 
-/** What the client sends, and what answers it. */
-const CLIENT_MESSAGE_DOCS = {
-  join: { summary: 'Join a room: `ROWS-RISK` (e.g. `16-medium`) or an instance `ROWS-RISK.N` (N 2–8); `delivery` "snapshots" (default: positions) or "seeds" (drop events only, the page simulates)', reply: ['joined', 'error'] },
-  leave: { summary: 'Leave the room', reply: ['left', 'error'] },
-  drop: { summary: 'Drop a ball: `bet` credits; a `clientSeed` becomes the player\'s client seed in the drop\'s own transaction', reply: ['dropped', 'error'] },
-  ping: { summary: 'Round trip; counts against the frame rate like any frame', reply: ['pong'] }
-}
+/**
+ * What the client sends, what answers it, and examples a server accepts (a
+ * player with a fresh session; `drop` and `leave` once in a room): the
+ * protocol test sends each one, and each value of an optional field that
+ * has a closed set of values (enum, const, boolean).
+ * @param {{ minBet: number }} config
+ */
+const clientMessageDocs = ({ minBet }) => ({
+  join: {
+    summary: 'Join a room: `ROWS-RISK` (e.g. `16-medium`) or an instance `ROWS-RISK.N` (N 2–8); `delivery` "snapshots" (default: positions) or "seeds" (drop events only, the page simulates)',
+    reply: ['joined', 'error'],
+    examples: [{ name: 'room', payload: { type: 'join', room: '16-medium' } }, { name: 'instance', payload: { type: 'join', room: '8-low.2', ref: 1 } }, { name: 'seeds delivery', payload: { type: 'join', room: '16-medium', delivery: 'seeds' } }]
+  },
+  leave: { summary: 'Leave the room', reply: ['left', 'error'], examples: [{ name: 'leave', payload: { type: 'leave' } }] },
+  drop: {
+    summary: 'Drop a ball: `bet` credits; a `clientSeed` becomes the player\'s client seed in the drop\'s own transaction',
+    reply: ['dropped', 'error'],
+    examples: [{ name: 'bet', payload: { type: 'drop', bet: minBet } }, { name: 'with a client seed', payload: { type: 'drop', bet: minBet, clientSeed: 'my lucky seed', ref: 'd1' } }]
+  },
+  ping: { summary: 'Round trip; counts against the frame rate like any frame', reply: ['pong'], examples: [{ name: 'ping', payload: { type: 'ping', ref: 'p1' } }] }
+})
 
 /** WebSocket close codes the server uses. */
 export const CLOSE_CODES = Object.freeze({
@@ -178,15 +201,17 @@ export const CLOSE_CODES = Object.freeze({
  */
 export function asyncApiDocument (config, { version, host }) {
   const clientSchemas = clientMessageSchemas(config)
+  const clientDocs = clientMessageDocs(config)
   const messages = {}
   for (const [type, schema] of Object.entries(clientSchemas)) {
-    messages[type] = { name: type, title: `${type} (client → server)`, summary: CLIENT_MESSAGE_DOCS[type]?.summary ?? type, contentType: 'application/json', payload: schema }
+    const examples = clientDocs[type]?.examples
+    messages[type] = { name: type, title: `${type} (client → server)`, summary: clientDocs[type]?.summary ?? type, contentType: 'application/json', payload: schema, ...(examples ? { examples } : {}) }
   }
   for (const [type, { summary, payload }] of Object.entries(SERVER_MESSAGE_SCHEMAS)) {
     messages[type] = { name: type, title: `${type} (server → client)`, summary, contentType: 'application/json', payload }
   }
-  for (const [name, { summary, description }] of Object.entries(BINARY_MESSAGES)) {
-    messages[name] = { name, title: `${name} (server → client, binary)`, summary, description, contentType: 'application/octet-stream', payload: { type: 'string', format: 'binary' } }
+  for (const [name, { kind, summary, description }] of Object.entries(BINARY_MESSAGES)) {
+    messages[name] = { name, title: `${name} (server → client, binary)`, summary, description, contentType: 'application/octet-stream', payload: { type: 'string', format: 'binary' }, 'x-frame-kind': kind }
   }
   const channelRef = { $ref: '#/channels/game' }
   const messageRef = (name) => ({ $ref: `#/channels/game/messages/${name}` })
@@ -195,10 +220,10 @@ export function asyncApiDocument (config, { version, host }) {
     operations[`receive-${type}`] = {
       action: 'receive',
       title: `Client sends ${type}`,
-      summary: CLIENT_MESSAGE_DOCS[type]?.summary ?? type,
+      summary: clientDocs[type]?.summary ?? type,
       channel: channelRef,
       messages: [messageRef(type)],
-      ...(CLIENT_MESSAGE_DOCS[type]?.reply ? { reply: { channel: channelRef, messages: CLIENT_MESSAGE_DOCS[type].reply.map(messageRef) } } : {})
+      ...(clientDocs[type]?.reply ? { reply: { channel: channelRef, messages: clientDocs[type].reply.map(messageRef) } } : {})
     }
   }
   for (const name of [...Object.keys(SERVER_MESSAGE_SCHEMAS), ...Object.keys(BINARY_MESSAGES)]) {
@@ -270,6 +295,7 @@ export function asyncApiPage (document) {
 <h3>${escape(message.title)}</h3>
 <p>${escape(message.summary)}</p>
 ${message.description ? `<p>${escape(message.description)}</p>` : ''}
+${message.examples ? `<p>Examples: ${message.examples.map((example) => `<code>${escape(JSON.stringify(example.payload))}</code>`).join(', ')}</p>` : ''}
 ${message.payload.properties ? `<table><thead><tr><th>field</th><th>type</th><th>required</th><th></th></tr></thead><tbody>\n${fieldRows(message.payload)}\n</tbody></table>` : ''}
 </section>`
   const replies = Object.values(document.operations).filter((op) => op.action === 'receive')

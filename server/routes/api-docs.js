@@ -21,6 +21,8 @@ const { version } = createRequire(import.meta.url)('../../package.json')
  * @param {{ config: import('../config.js').Config }} options
  */
 async function apiDocs (app, { config }) {
+  /** Querystrings with a rule across their parameters (oneOf), by `METHOD url`: see withQueryRules. */
+  const queryRules = new Map()
   await app.register(swagger, {
     openapi: {
       openapi: '3.1.0',
@@ -28,7 +30,8 @@ async function apiDocs (app, { config }) {
         title: 'Plinko Arena HTTP API',
         version,
         description: 'Errors are `{ code, message }` (see the `Error` schema); every route checks its input against the schema shown and refuses unknown properties. ' +
-          'The real-time game runs over the WebSocket at `GET /ws?token=…`: see [/docs/websocket](/docs/websocket) and [/api/asyncapi.json](/api/asyncapi.json).'
+          'The real-time game runs over the WebSocket at `GET /ws?token=…`: see [/docs/websocket](/docs/websocket) and [/api/asyncapi.json](/api/asyncapi.json). ' +
+          'A method a path does not have (`TRACE /api/health`, `DELETE /api/session`) is answered 405 E_METHOD_NOT_ALLOWED with an `Allow` header listing the methods it has (RFC 9110 §15.5.6): see the `MethodNotAllowed` response.'
       },
       tags: [
         { name: 'player', description: 'Guest sessions, balances and the fairness seeds of the caller' },
@@ -39,6 +42,13 @@ async function apiDocs (app, { config }) {
         { name: 'docs', description: 'This description' }
       ],
       components: {
+        responses: {
+          MethodNotAllowed: {
+            description: 'Any path, any method it does not have: E_METHOD_NOT_ALLOWED',
+            headers: { Allow: { description: 'the methods this path has, e.g. `GET, HEAD`', schema: { type: 'string' } } },
+            content: { 'application/json': { schema: errorResponse(405) } }
+          }
+        },
         securitySchemes: {
           playerToken: { type: 'http', scheme: 'bearer', description: 'A session token from POST /api/session' },
           operatorToken: { type: 'http', scheme: 'bearer', description: 'OPERATOR_TOKEN (missing: 401, wrong: 403)' }
@@ -53,8 +63,8 @@ async function apiDocs (app, { config }) {
         }
       }
     },
-    transform: documentRoute,
-    transformObject: ({ openapiObject }) => withOptionalBodies(openapiObject)
+    transform: (route) => documentRoute(route, queryRules),
+    transformObject: ({ openapiObject }) => withQueryRules(withOptionalBodies(openapiObject), queryRules)
   })
   await app.register(swaggerUi, {
     routePrefix: '/docs',
@@ -101,6 +111,42 @@ function errorResponse (status) {
 }
 
 /**
+ * OpenAPI describes query parameters one by one, so a rule across them (an
+ * export names exactly one of `player` and `serverSeedHash`) has no place on
+ * any of them. OpenAPI's own way is one object parameter serialised as
+ * `style: form, explode: true` (each property its own `name=value`, as sent
+ * today) whose schema carries the rule: a route whose querystring schema has
+ * `oneOf` is documented so, with the very properties and `oneOf` the server
+ * validates with.
+ */
+function withQueryRules (openapiObject, queryRules) {
+  for (const [key, querystring] of queryRules) {
+    const [method, url] = key.split(' ')
+    const operation = openapiObject.paths[url.replace(/:(\w+)/g, '{$1}').replace(/\*/g, '{*}')]?.[method.toLowerCase()]
+    if (!operation) continue
+    const query = operation.parameters.filter((parameter) => parameter.in === 'query')
+    operation.parameters = [
+      ...operation.parameters.filter((parameter) => parameter.in !== 'query'),
+      {
+        name: 'query',
+        in: 'query',
+        required: true,
+        style: 'form',
+        explode: true,
+        ...(querystring.description ? { description: querystring.description } : {}),
+        schema: {
+          type: 'object',
+          properties: Object.fromEntries(query.map((parameter) => [parameter.name, parameter.schema])),
+          oneOf: querystring.oneOf,
+          additionalProperties: false
+        }
+      }
+    ]
+  }
+  return openapiObject
+}
+
+/**
  * @fastify/swagger marks every request body required; a body whose schema
  * also allows null (POST /api/session: no body at all) is optional.
  */
@@ -136,11 +182,23 @@ function tagOf (route, access) {
  * fails the schema, 404 for a path parameter naming nothing, 429 for the
  * per-IP rate limit, 500 for an API failure) as `{ code, message }`.
  */
-function documentRoute ({ schema = {}, url, route }) {
+function documentRoute ({ schema = {}, url, route }, queryRules) {
   // The client's files (@fastify/static hides its routes) and the page of this description are documented too.
-  if (url === '/*' && schema.hide) return { schema: { summary: 'The player page (`/`) and the client\'s files', tags: ['pages'], response: { 200: { description: 'A file of client/', type: 'null' }, 404: errorResponse(404) } }, url }
+  // A path with a backslash or a NUL can name no file: @fastify/static refuses it with 403.
+  if (url === '/*' && schema.hide) {
+    return {
+      schema: {
+        summary: 'The player page (`/`) and the client\'s files',
+        tags: ['pages'],
+        params: { type: 'object', properties: { '*': { type: 'string', description: 'a file of client/', examples: ['index.html', 'audit.html', 'favicon.svg'] } } },
+        response: { 200: { description: 'A file of client/', type: 'null' }, 403: { ...errorResponse(403), description: 'E_FORBIDDEN: a path that can name no file (a backslash or a NUL in it)' }, 404: errorResponse(404) }
+      },
+      url
+    }
+  }
   if ((url === '/docs' || url === '/docs/') && schema.hide) return { schema: { summary: 'This description, browsable (Swagger UI)', tags: ['docs'], response: { 200: { description: 'HTML', type: 'null' } } }, url: '/docs' }
   if (schema.hide) return { schema, url }
+  if (schema.querystring?.oneOf) for (const method of [route.method].flat()) queryRules.set(`${method} ${url}`, schema.querystring)
   const access = accessOf(route)
   const response = { ...(schema.response ?? { 200: { description: 'OK', type: 'null' } }) }
   const wanted = []

@@ -6,18 +6,38 @@ import { deriveDropSeed, sha256Hex } from '../fairness/seeds.js'
 import { payoutFor, toCredits } from '../game/money.js'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
-import { dropList, dropRecord, errors, parseTime, timeParam } from './schemas.js'
+import { dropList, dropRecord, errors, parseTime, timeParam, TIME_PATTERN } from './schemas.js'
 
 const hex64 = { type: 'string', pattern: '^[0-9a-f]{64}$' }
 /** Printable ASCII only: a NUL or control character is no id (and PostgreSQL refuses NUL in text). */
 const printable = '^[\\x20-\\x7e]*$'
 const playerId = { type: 'string', minLength: 1, maxLength: 64, pattern: printable }
-const engineVersionParam = { type: 'string', minLength: 1, maxLength: 32, pattern: printable }
+/** The shipped engine versions (engine/version.js), a closed set: any other is E_UNKNOWN_ENGINE_VERSION. */
+const engineVersionParam = { type: 'string', enum: [...ENGINE_VERSIONS], default: ENGINE_VERSION, description: `an engine version of this server (default ${ENGINE_VERSION}, the newest)` }
 
-/** The engine version a request names, checked: a version this server does not have is E_UNKNOWN_ENGINE_VERSION. */
-function requestedEngineVersion (version = ENGINE_VERSION) {
-  if (!isEngineVersion(version)) throw gameError('E_UNKNOWN_ENGINE_VERSION', `no engine version ${JSON.stringify(version)} on this server (it has ${ENGINE_VERSIONS.join(', ')})`)
-  return version
+/** An export names exactly one of the two histories: documented as one rule (api-docs.js turns it into one query object). */
+const exportQuery = {
+  type: 'object',
+  properties: { player: playerId, serverSeedHash: hex64, format: { type: 'string', enum: ['json', 'ndjson'], default: 'json' } },
+  oneOf: [{ required: ['player'] }, { required: ['serverSeedHash'] }],
+  additionalProperties: false
+}
+
+/**
+ * The audit routes' refusals by what failed: an engine version outside the
+ * enum is E_UNKNOWN_ENGINE_VERSION, an export naming neither or both
+ * histories says so, a time filter that is no time says what a time is; anything else is E_BAD_REQUEST with Ajv's words.
+ * @param {import('ajv').ErrorObject[]} errors @param {string} part
+ */
+function auditSchemaError (errors, part) {
+  if (errors.some((error) => error.instancePath === '/engineVersion')) {
+    return gameError('E_UNKNOWN_ENGINE_VERSION', `no such engine version on this server (it has ${ENGINE_VERSIONS.join(', ')})`)
+  }
+  if (errors.some((error) => error.keyword === 'oneOf')) return gameError('E_BAD_REQUEST', 'give exactly one of player or serverSeedHash')
+  // A time filter's pattern is long: say what it means.
+  const time = errors.find((error) => error.keyword === 'pattern' && error.params.pattern === TIME_PATTERN)
+  if (time) return gameError('E_BAD_REQUEST', `${time.instancePath.slice(1)} must be an ISO 8601 time or milliseconds since the epoch`)
+  return gameError('E_BAD_REQUEST', errors.map((error) => `${part}${error.instancePath} ${error.message}`).join(', '))
 }
 
 /**
@@ -26,12 +46,13 @@ function requestedEngineVersion (version = ENGINE_VERSION) {
  * exports and per-room statistics. Active server seeds are used for checks
  * but never returned.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function auditRoutes (app, { arena }) {
+export default async function auditRoutes (app, { arena, authGuard }) {
   const { store } = arena
   // onRequest: the token is checked before anything of the request is (its query's schema included).
-  app.addHook('onRequest', requireOperator(arena.config.operatorToken))
+  app.addHook('onRequest', requireOperator(arena.config.operatorToken, authGuard))
+  app.setSchemaErrorFormatter(auditSchemaError)
 
   app.get('/api/audit/drops/:id', {
     schema: {
@@ -126,7 +147,7 @@ export default async function auditRoutes (app, { arena }) {
     }
   }, async (request) => {
     const { serverSeed, clientSeed, nonce, rows, risk } = request.query
-    const engineVersion = requestedEngineVersion(request.query.engineVersion)
+    const engineVersion = request.query.engineVersion
     const result = await verifyDrop({ serverSeed, clientSeed, nonce, rows, risk, engineVersion })
     // Any stored drop with these seeds, checked against the recomputation.
     const stored = await store.listDrops({ serverSeedHash: result.serverSeedHash, nonce, limit: 10 })
@@ -141,16 +162,21 @@ export default async function auditRoutes (app, { arena }) {
   app.get('/api/audit/export', {
     schema: {
       summary: 'The full drop history of a player or of one server seed, oldest first, as JSON or JSON lines',
-      querystring: {
-        type: 'object',
-        properties: { player: playerId, serverSeedHash: hex64, format: { type: 'string', enum: ['json', 'ndjson'], default: 'json' } },
-        additionalProperties: false
-      },
-      response: errors(400, 401, 403)
+      description: 'Give exactly one of `player` and `serverSeedHash`. The body is streamed: a JSON array of drop records (`format=json`) or one record per line (`format=ndjson`).',
+      querystring: exportQuery,
+      response: {
+        200: {
+          description: 'The drops, oldest first, as an attachment',
+          content: {
+            'application/json': { schema: { type: 'array', items: dropRecord } },
+            'application/x-ndjson': { schema: { type: 'string', description: 'one drop record (as in the JSON array) per line' } }
+          }
+        },
+        ...errors(400, 401, 403)
+      }
     }
   }, async (request, reply) => {
     const { player, serverSeedHash, format } = request.query
-    if ((player === undefined) === (serverSeedHash === undefined)) throw gameError('E_BAD_REQUEST', 'give exactly one of player or serverSeedHash')
     const drops = store.iterateDrops({ playerId: player, serverSeedHash })
     reply.header('content-disposition', `attachment; filename="drops-${(player ?? serverSeedHash.slice(0, 16)).replace(/[^\w.-]/g, '_')}.${format === 'json' ? 'json' : 'ndjson'}"`)
     if (format === 'ndjson') {
@@ -164,7 +190,7 @@ export default async function auditRoutes (app, { arena }) {
   app.get('/api/audit/rooms/:id/stats', {
     schema: {
       summary: 'A room\'s settled drops: totals, measured RTP and bucket counts (for the operator\'s charts)',
-      params: { type: 'object', properties: { id: { type: 'string', maxLength: 32 } }, required: ['id'] },
+      params: { type: 'object', properties: { id: { type: 'string', maxLength: 32, description: 'a room id (`ROWS-RISK` or `ROWS-RISK.N`)', examples: ['16-medium', '8-low.2'] } }, required: ['id'] },
       querystring: { type: 'object', properties: { engineVersion: engineVersionParam }, additionalProperties: false },
       response: {
         200: {
@@ -198,7 +224,7 @@ export default async function auditRoutes (app, { arena }) {
     const id = request.params.id
     const parsed = parseRoomId(id)
     if (!parsed) throw gameError('E_UNKNOWN_ROOM', `no room ${JSON.stringify(id)}`)
-    const engineVersion = requestedEngineVersion(request.query.engineVersion)
+    const engineVersion = request.query.engineVersion
     const stats = await store.roomStats(id, engineVersion)
     const board = boardOf(id, engineVersion)
     const bucketCounts = new Array(board.rows + 1).fill(0)

@@ -15,11 +15,11 @@ const publicDropRecord = { type: 'object', properties: Object.fromEntries(PUBLIC
  * only once it has been revealed); and any drop's public facts, for a page
  * in seeds mode that verifies another player's drop on demand.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function dropRoutes (app, { arena }) {
+export default async function dropRoutes (app, { arena, authGuard }) {
   const { store } = arena
-  const asPlayer = requirePlayer(store)
+  const asPlayer = requirePlayer(store, authGuard)
 
   app.get('/api/drops', {
     onRequest: asPlayer,
@@ -45,12 +45,12 @@ export default async function dropRoutes (app, { arena }) {
     schema: {
       summary: 'One of the caller\'s drops',
       params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
-      response: { 200: dropRecord, ...errors(400, 401, 403, 404) }
+      response: { 200: dropRecord, ...errors(400, 401, 404) }
     }
   }, async (request) => {
     const drop = await store.getDrop(request.params.id)
-    if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
-    if (drop.playerId !== request.playerId) throw gameError('E_FORBIDDEN', 'players may read only their own drops')
+    // Someone else's drop reads as no drop: a 403 would tell a caller which ids exist.
+    if (!drop || drop.playerId !== request.playerId) throw gameError('E_NOT_FOUND', `you have no drop ${request.params.id}`)
     return drop
   })
 

@@ -1,7 +1,7 @@
 import { Connection } from '../realtime/connection.js'
 import { createMessageParser } from '../realtime/message-schemas.js'
 import { playerIdForToken } from '../auth.js'
-import { ERROR_CODES, gameError } from '../errors.js'
+import { ERROR_CODES, GameError, gameError } from '../errors.js'
 import { TokenBucket } from '../ledger/token-bucket.js'
 import { IpLimits } from '../realtime/ip-limits.js'
 
@@ -12,16 +12,22 @@ import { IpLimits } from '../realtime/ip-limits.js'
  * `{type:"error", code:"E_UNAUTHORIZED"}` and close code 4401, so browser
  * clients can tell why.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
 /** How often IPs with nothing open and full buckets are forgotten. */
 const IP_SWEEP_MS = 60_000
 
-export default async function realtimeRoutes (app, { arena }) {
+export default async function realtimeRoutes (app, { arena, authGuard }) {
   const { config, metrics } = arena
   const parseMessage = createMessageParser(config)
   /** Per client IP (request.ip: honours TRUST_PROXY): open sockets, drop and join buckets. And sockets in total. */
-  const ipLimits = new IpLimits({ dropRate: config.dropRatePerIp, joinRate: config.joinRatePerIp })
+  const ipLimits = new IpLimits({
+    dropRate: config.dropRatePerIp,
+    joinRate: config.joinRatePerIp,
+    messageRate: config.wsIpMessageRate,
+    byteRate: config.wsIpByteRate,
+    maxPayload: config.wsMaxPayload
+  })
   let open = 0
   const sweeper = setInterval(() => ipLimits.sweep(), IP_SWEEP_MS).unref()
   app.addHook('onClose', async () => clearInterval(sweeper))
@@ -61,9 +67,14 @@ export default async function realtimeRoutes (app, { arena }) {
         connection.close(1001, 'E_UNAVAILABLE')
         return
       }
-      authenticate(arena, request.query.token).then((account) => {
+      authenticate(arena, authGuard, ip, request.query.token).then((account) => {
         if (!connection.authenticated(account) && account) arena.accounts.release(account)
       }, (error) => {
+        if (error instanceof GameError) {
+          connection.sendError(error.code, error.message)
+          connection.close(1008, error.code)
+          return
+        }
         request.log.error({ err: error }, 'websocket authentication failed')
         connection.sendError('E_INTERNAL')
         connection.close(1011, 'E_INTERNAL')
@@ -72,7 +83,10 @@ export default async function realtimeRoutes (app, { arena }) {
   })
 }
 
-async function authenticate (arena, token) {
+/** The token's account, or null; a wrong token counts against the address, which may be blocked (E_RATE_LIMITED). */
+async function authenticate (arena, authGuard, ip, token) {
+  await authGuard.admit('player', ip)
   const playerId = await playerIdForToken(arena.store, token)
+  if (!playerId && token !== undefined) await authGuard.failed('player', ip)
   return playerId ? arena.accounts.acquire(playerId) : null
 }

@@ -16,7 +16,39 @@ import Ajv from 'ajv'
 export function requestValidatorCompiler () {
   const coercing = newAjv({ coerceTypes: 'array' })
   const asSent = newAjv({ coerceTypes: false })
-  return ({ schema, httpPart }) => (httpPart === 'body' ? asSent : coercing).compile(withSafeIntegers(schema))
+  return ({ schema, httpPart }) => httpPart === 'body'
+    ? asSent.compile(withSafeIntegers(schema))
+    : decimalNumbersOnly(schema, coercing.compile(withSafeIntegers(schema)))
+}
+
+/** A number as a person writes it in decimal (exponent allowed): not 0x10, 0o20, 0b10000. */
+const DECIMAL = /^\s*[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?\s*$/i
+
+/**
+ * Ajv coerces text to a number with Number(), which reads "0x10" as 16:
+ * before it does, each numeric property of a querystring or params object
+ * given as text must be written in decimal.
+ * @param {any} schema @param {import('ajv').ValidateFunction} validate
+ */
+function decimalNumbersOnly (schema, validate) {
+  const numeric = Object.entries(schema?.properties ?? {})
+    .filter(([, property]) => [property.type].flat().some((type) => type === 'integer' || type === 'number'))
+    .map(([name]) => name)
+  if (numeric.length === 0) return validate
+  function decimalThenSchema (data) {
+    for (const name of numeric) {
+      const value = data?.[name]
+      const texts = Array.isArray(value) ? value : [value]
+      if (texts.some((text) => typeof text === 'string' && !DECIMAL.test(text))) {
+        decimalThenSchema.errors = [{ instancePath: `/${name}`, schemaPath: '#/decimal', keyword: 'decimal', params: {}, message: 'must be a number written in decimal' }]
+        return false
+      }
+    }
+    const valid = validate(data)
+    decimalThenSchema.errors = validate.errors
+    return valid
+  }
+  return decimalThenSchema
 }
 
 function newAjv ({ coerceTypes }) {

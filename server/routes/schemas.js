@@ -53,8 +53,18 @@ export function errors (...statuses) {
   return Object.fromEntries(statuses.map((status) => [status, errorReply]))
 }
 
-/** A timestamp filter: ISO 8601 date/time or milliseconds since the epoch. */
-export const timeParam = { type: 'string', maxLength: 40 }
+/**
+ * A timestamp filter: milliseconds since the epoch (up to 15 digits), or an
+ * ISO 8601 date, or date and time (minutes, seconds and fractions optional;
+ * `Z` or an offset). The pattern is the whole rule, so a client knows what is
+ * accepted: every string it matches is a time parseTime reads (Date.parse takes
+ * day 31 of any month, rolling over into the next).
+ * ASCII digits spelt out: `\d` is wider than 0-9 in other regex engines.
+ */
+const ISO_DATE = '[0-9]{4}-(0[1-9]|1[0-2])-(0[1-9]|[12][0-9]|3[01])'
+const ISO_TIME = 'T([01][0-9]|2[0-3]):[0-5][0-9](:[0-5][0-9](\\.[0-9]{1,9})?)?(Z|[+-]([01][0-9]|2[0-3]):[0-5][0-9])?'
+export const TIME_PATTERN = `^([0-9]{1,15}|${ISO_DATE}(${ISO_TIME})?)$`
+export const timeParam = { type: 'string', pattern: TIME_PATTERN, maxLength: 40, description: 'milliseconds since the epoch, or an ISO 8601 date or date-time (e.g. 2026-01-31 or 2026-01-31T12:00:00Z)' }
 
 /** @param {string | undefined} value @returns {number | undefined} ms */
 export function parseTime (value) {

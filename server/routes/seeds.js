@@ -12,11 +12,11 @@ const seedState = {
  * The player's fairness seeds: list (the active one by hash only), rotate
  * (reveal the active seed, commit a new one) and set the client seed.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function seedRoutes (app, { arena }) {
+export default async function seedRoutes (app, { arena, authGuard }) {
   const { store } = arena
-  const asPlayer = requirePlayer(store)
+  const asPlayer = requirePlayer(store, authGuard)
 
   /** Holds the caller's account for the duration of `work`. */
   async function withAccount (request, work) {

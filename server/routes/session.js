@@ -34,9 +34,9 @@ const sessionBody = {
  * POST /api/session: a new guest player (play money) and its token.
  * GET /api/me: the caller's balance and fairness state.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
  */
-export default async function sessionRoutes (app, { arena }) {
+export default async function sessionRoutes (app, { arena, authGuard }) {
   const { config, store } = arena
   app.post('/api/session', {
     config: { rateLimit: { max: config.sessionRateLimit, timeWindow: 60_000 } },
@@ -51,7 +51,7 @@ export default async function sessionRoutes (app, { arena }) {
   })
 
   app.get('/api/me', {
-    onRequest: requirePlayer(store),
+    onRequest: requirePlayer(store, authGuard),
     schema: {
       summary: "The caller's balance, active seed commitment, client seed and next nonce",
       response: {

@@ -1,5 +1,6 @@
 import { SqliteStore } from './sqlite-store.js'
 import { PostgresStore } from './postgres-store.js'
+import { checkDataDirectory } from './data-directory.js'
 
 /**
  * Opens the ledger named by the configuration and brings its schema up to
@@ -9,6 +10,7 @@ import { PostgresStore } from './postgres-store.js'
  * @returns {Promise<import('./ledger-store.js').LedgerStore>}
  */
 export async function openStore (database) {
+  if (database.kind === 'sqlite') checkDataDirectory(database.file)
   const store = database.kind === 'postgres'
     ? new PostgresStore({ url: database.url })
     : new SqliteStore({ file: database.file, busyTimeoutMs: database.busyTimeoutMs })

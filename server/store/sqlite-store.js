@@ -5,6 +5,7 @@ import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites } from './sqlite-writes.js'
 import { SqliteWriter } from './sqlite-writer.js'
 import { gameError } from '../errors.js'
+import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
 
 /**
  * The ledger on SQLite (better-sqlite3): WAL journal with synchronous=FULL,
@@ -22,7 +23,11 @@ export class SqliteStore {
   /** @param {{ file: string, busyTimeoutMs?: number }} options file path or ':memory:' */
   constructor ({ file, busyTimeoutMs }) {
     this.kind = 'sqlite'
+    // Room to start and settle on a full disk (disk-reserve.js).
+    this.reserve = file === ':memory:' ? null : new DiskReserve(`${file}.reserve`)
+    this.reserve?.releaseIfLow()
     this.db = openSqliteDatabase(file, { busyTimeoutMs })
+    if (this.reserve) checkpointLeftoverWal(this.db)
     this._statements = new Map()
     this._writer = file === ':memory:' ? null : new SqliteWriter(file, { busyTimeoutMs })
     this._writesHere = null
@@ -31,10 +36,16 @@ export class SqliteStore {
   /** One write (sqlite-writes.js), on the writer thread, durable when it resolves. */
   async _write (op, args) {
     try {
-      if (this._writer) return await this._writer.run(op, args)
-      this._writesHere ??= prepareWrites(this.db)
-      return this._writesHere[op].immediate(args)
+      if (!this._writer) {
+        this._writesHere ??= prepareWrites(this.db)
+        return this._writesHere[op].immediate(args)
+      }
+      const result = await this._writer.run(op, args)
+      this.reserve?.restore()
+      return result
     } catch (error) {
+      // The disk is full: give the retries the reserve's space.
+      if (error.code === 'SQLITE_FULL') this.reserve?.release()
       if (error.code === 'SQLITE_BUSY') throw gameError('E_UNAVAILABLE', 'the ledger is busy (another process holds its write lock); try again shortly', { cause: error })
       throw error
     }

@@ -4,11 +4,13 @@ import { fileURLToPath } from 'node:url'
 import Ajv from 'ajv'
 import { Validator } from '@seriousme/openapi-schema-validator'
 import asyncApiSpecs from '@asyncapi/specs'
+import fc from 'fast-check'
 import { storeBackend } from '../server/helpers/stores.js'
 import { startServer, OPERATOR_TOKEN } from '../server/helpers/server.js'
 import { ERROR_CODES } from '../../server/errors.js'
 import { WEBSOCKET_ONLY_CODES } from '../../server/routes/api-docs.js'
 import { clientMessageSchemas } from '../../server/realtime/message-schemas.js'
+import { ENGINE_VERSIONS } from '../../engine/version.js'
 
 const CLIENT_DIR = fileURLToPath(new URL('../../client/', import.meta.url))
 
@@ -148,6 +150,41 @@ describe('the API description', () => {
       }
     }
     expect(checked).toBeGreaterThanOrEqual(15)
+  })
+
+  it('describes the audit routes\' inputs as the server takes them: times, engine versions, one history per export', async () => {
+    const operator = { token: OPERATOR_TOKEN }
+    const query = (path) => Object.fromEntries(openapi.paths[path].get.parameters.filter((p) => p.in === 'query').map((p) => [p.name, p]))
+    // Time filters: every string the pattern allows is a time the server takes; outside it, refused.
+    const { from } = query('/api/audit/drops')
+    const pattern = new RegExp(from.schema.pattern, 'u')
+    await fc.assert(fc.asyncProperty(fc.stringMatching(pattern), async (time) => {
+      const response = await server.api('GET', `/api/audit/drops?from=${encodeURIComponent(time)}&to=${encodeURIComponent(time)}`, operator)
+      expect(response.status, `from=${time}: ${response.text}`).toBe(200)
+    }), { numRuns: 200 })
+    for (const time of ['', 'yesterday', '1e5', '2026-13-01']) {
+      expect(pattern.test(time), time).toBe(false)
+      expect((await server.api('GET', `/api/audit/drops?from=${encodeURIComponent(time)}`, operator)).status, time).toBe(400)
+    }
+    // Engine versions: the shipped ones (engine/version.js), a closed set.
+    for (const path of ['/api/audit/verify', '/api/audit/rooms/{id}/stats']) expect(query(path).engineVersion.schema.enum, path).toEqual(ENGINE_VERSIONS)
+    const unknown = await server.api('GET', '/api/audit/verify?serverSeed=s&clientSeed=c&nonce=1&engineVersion=0', operator)
+    expect([unknown.status, unknown.body.code]).toEqual([400, 'E_UNKNOWN_ENGINE_VERSION'])
+    // An export names exactly one history: one form-exploded query object whose oneOf says so, the very rule the server checks.
+    const exported = openapi.paths['/api/audit/export'].get
+    const [filter] = exported.parameters
+    expect(exported.parameters).toHaveLength(1)
+    expect(filter).toMatchObject({ in: 'query', style: 'form', explode: true, required: true })
+    const ajv = new Ajv({ strict: false })
+    const validate = ajv.compile(filter.schema)
+    const hash = '0'.repeat(64)
+    for (const [params, valid] of [[{}, false], [{ player: 'p' }, true], [{ serverSeedHash: hash, format: 'ndjson' }, true], [{ player: 'p', serverSeedHash: hash }, false]]) {
+      expect(validate(params), JSON.stringify(params)).toBe(valid)
+      const response = await server.api('GET', `/api/audit/export?${new URLSearchParams(params)}`, operator)
+      expect(response.status, JSON.stringify(params)).toBe(valid ? 200 : 400)
+      expect(exported.responses[response.status], JSON.stringify(params)).toBeDefined()
+      if (valid) expect(Object.keys(exported.responses[200].content)).toContain(response.headers['content-type'].split(';')[0])
+    }
   })
 
   it('documents POST /api/session\'s body: none or {}, and nothing else', () => {

@@ -25,7 +25,8 @@ describe.each(STORE_KINDS)('request validation on %s', (kind) => {
   ]
 
   it('refuses every numeric parameter that is not a finite safe integer in range with 400 E_BAD_REQUEST', async () => {
-    for (const value of ['1e400', '-1e400', 'Infinity', '-Infinity', '1e16', '9007199254740992', '-9007199254740992', '1.5', '2e-1', 'NaN', '', 'x']) {
+    // 0x10, 0o20 and 0b10000 are 16 to Number(), and were taken as 16 (issue #21, item 8).
+    for (const value of ['1e400', '-1e400', 'Infinity', '-Infinity', '1e16', '9007199254740992', '-9007199254740992', '1.5', '2e-1', 'NaN', '', 'x', '0x10', '0X10', '0o20', '0b10000', ' 0x10 ']) {
       for (const [who, url] of numeric) {
         const token = who === 'player' ? alice.token : OPERATOR_TOKEN
         const response = await server.api('GET', url.replace('V', value), { token })
@@ -40,6 +41,20 @@ describe.each(STORE_KINDS)('request validation on %s', (kind) => {
     const verified = await server.api('GET', `/api/audit/verify?${seeds}&nonce=1e1&rows=1.2e1`, { token: OPERATOR_TOKEN })
     expect(verified.status).toBe(200)
     expect(verified.body.engineVersion).toBeDefined()
+  })
+
+  it('takes a time filter only as ISO 8601 or epoch milliseconds (from=1.5 was some day in 2001)', async () => {
+    for (const value of ['1.5', '1.', '-1', 'Dec 2 2026', '2 December 2026', '2026/12/02', '12-02-2026', '2026-12-02 10:00', 'Wed, 02 Dec 2026 05:00:00 GMT', '0x10']) {
+      for (const name of ['from', 'to']) {
+        const response = await server.api('GET', `/api/audit/drops?${name}=${encodeURIComponent(value)}`, { token: OPERATOR_TOKEN })
+        expect(response.status, `${name}=${value}`).toBe(400)
+        expect(response.body, `${name}=${value}`).toEqual({ code: 'E_BAD_REQUEST', message: `${name} must be an ISO 8601 time or milliseconds since the epoch` })
+      }
+    }
+    for (const value of ['0', '1767225600000', '2026-01-01', '2026-01-01T00:00Z', '2026-01-01T00:00:00.123+02:00', '2026-01-01T00:00:00']) {
+      const response = await server.api('GET', `/api/audit/drops?from=${encodeURIComponent(value)}`, { token: OPERATOR_TOKEN })
+      expect(response.status, value).toBe(200)
+    }
   })
 
   it('checks the operator token before it looks at the query (401 before any schema error)', async () => {

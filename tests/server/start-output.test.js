@@ -76,7 +76,7 @@ describe('start-up banner', () => {
     expect(lines).toContain('  ledger    SQLite /srv/plinko/ledger.sqlite')
     expect(lines).toContain('  runs      one process alone: every room, nonce and drop id here')
     expect(lines).toContain(`  operator  OPERATOR_TOKEN was not set; generated for this run: ${config.operatorToken}`)
-    expect(lines).toContain('            (set OPERATOR_TOKEN, at least 16 characters, to keep one across restarts)')
+    expect(lines).toContain('            (set OPERATOR_TOKEN, 32 random bytes in hex, to keep one across restarts)')
     expect(lines).toContain('  logs      pretty, below (LOG_FORMAT=json for JSON lines)')
     expect(banner.endsWith('\n\n')).toBe(true)
     expect(lines.length).toBeLessThanOrEqual(14)

@@ -1,0 +1,42 @@
+import Redis from 'ioredis'
+import { LocalAuthFailures, authFailurePolicy } from './auth-failures.js'
+import { RedisAuthFailures } from './redis-auth-failures.js'
+
+/**
+ * Where the per-address HTTP limits are counted: the requests and sessions
+ * per minute (@fastify/rate-limit) and the failed authentications
+ * (auth-failures.js). Chosen once at start with the mode
+ * (coordination/modes.js): in this process alone, or in Redis, so that a
+ * cluster of N processes lets through what one would, not N times that.
+ * @typedef {object} AddressLimits
+ * @property {object} rateLimitOptions added to @fastify/rate-limit's options (its store)
+ * @property {import('./auth-failures.js').AuthFailureLimiter} authFailures
+ * @property {() => Promise<void>} close
+ */
+
+/** @param {import('../config.js').Config} config @returns {AddressLimits} */
+export function localAddressLimits (config) {
+  const authFailures = new LocalAuthFailures(authFailurePolicy(config))
+  return { rateLimitOptions: {}, authFailures, close: () => authFailures.close() }
+}
+
+/**
+ * Counts in Redis (REDIS_URL). A request is never refused because Redis
+ * is down: the rate limit lets it through (skipOnError) and failed
+ * authentications are counted in this process meanwhile.
+ * @param {import('../config.js').Config} config @param {import('pino').Logger} log
+ * @returns {AddressLimits}
+ */
+export function redisAddressLimits (config, log) {
+  const redis = new Redis(config.redisUrl, { maxRetriesPerRequest: 1, enableOfflineQueue: false, connectTimeout: 2000 })
+  redis.on('error', (error) => log.debug({ err: error }, 'redis error (address limits)'))
+  const authFailures = new RedisAuthFailures(authFailurePolicy(config), { redis, log })
+  return {
+    rateLimitOptions: { redis, nameSpace: 'plinko:rate-limit:', skipOnError: true },
+    authFailures,
+    async close () {
+      await authFailures.close()
+      await redis.quit().catch(() => redis.disconnect())
+    }
+  }
+}

@@ -1,0 +1,99 @@
+import fs from 'node:fs'
+import path from 'node:path'
+
+/** Bytes the reserve file holds: room for a start-up (WAL, its index) and a recovery's settlements. */
+export const DISK_RESERVE_BYTES = 1024 * 1024
+
+/** After a release, the reserve is made again no sooner than this, and only with twice its size free. */
+const RESTORE_EVERY_MS = 5000
+
+/**
+ * A preallocated file beside the SQLite ledger that gives its space back
+ * when the disk is full. A disk filled by something else (logs, a backup)
+ * leaves the ledger no room to commit, and a process started on it no room
+ * for its WAL: the start fails with "database or disk is full" even once the
+ * filler shrank, if the WAL takes what came back. So the reserve is let go
+ * as soon as a write fails for want of space (the retried settlements then
+ * get it), and at start when the disk has less than the reserve free (the
+ * start and its recovery get it); it is made again, in the background of
+ * later writes, once twice its size is free.
+ */
+export class DiskReserve {
+  /** @param {string} file @param {{ bytes?: number, now?: () => number }} [options] */
+  constructor (file, { bytes = DISK_RESERVE_BYTES, now = Date.now } = {}) {
+    this.file = file
+    this.bytes = bytes
+    this.now = now
+    this._lastTry = -Infinity
+  }
+
+  /** Whether the reserve file is there, whole. */
+  get held () {
+    try {
+      return fs.statSync(this.file).size >= this.bytes
+    } catch {
+      return false
+    }
+  }
+
+  /** Frees the reserve's space (a write failed with SQLITE_FULL). @returns {boolean} it was held */
+  release () {
+    this._lastTry = this.now()
+    try {
+      fs.unlinkSync(this.file)
+      return true
+    } catch {
+      return false
+    }
+  }
+
+  /** At start: frees the reserve if the disk has less than its size free. @returns {boolean} released */
+  releaseIfLow () {
+    if (!this.held || freeBytes(this.file) >= this.bytes) return false
+    return this.release()
+  }
+
+  /** After a write that succeeded: makes the reserve (again) if it is missing and the disk has room. */
+  restore () {
+    if (this.now() - this._lastTry < RESTORE_EVERY_MS) return
+    this._lastTry = this.now()
+    if (this.held || freeBytes(this.file) < 2 * this.bytes) return
+    const temp = `${this.file}.new`
+    try {
+      const fd = fs.openSync(temp, 'w')
+      try {
+        // Written, not sparse: the blocks must really be taken to be given back later.
+        fs.writeSync(fd, Buffer.alloc(this.bytes))
+        fs.fsyncSync(fd)
+      } finally {
+        fs.closeSync(fd)
+      }
+      fs.renameSync(temp, this.file)
+    } catch {
+      fs.rmSync(temp, { force: true })
+    }
+  }
+}
+
+/** Bytes free for this process on the filesystem holding `file`. */
+function freeBytes (file) {
+  try {
+    const stats = fs.statfsSync(path.dirname(file))
+    return stats.bavail * stats.bsize
+  } catch {
+    return Infinity
+  }
+}
+
+/**
+ * At start, before anything else writes: a WAL left by a process that was
+ * killed is copied into the database and truncated, so that it does not hold
+ * the disk's space while the start and its recovery need it. A failure is
+ * left to the first write to report.
+ * @param {{ exec: (sql: string) => unknown }} db
+ */
+export function checkpointLeftoverWal (db) {
+  try {
+    db.exec('PRAGMA wal_checkpoint(TRUNCATE)')
+  } catch {}
+}
