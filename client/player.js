@@ -41,6 +41,8 @@ const AUTO_DROP_EVERY_MS = 250
 const MAX_REDIRECTS = 3
 /** A floating "+payout" for own wins of this multiple or more (BIG_WIN and up: the big celebration). */
 const FLOAT_WIN = 2
+/** A result that comes this soon after its ball landed on screen still gets its effects (seeds mode draws close to the room's tick). */
+const LATE_RESULT_MS = 1000
 /** How often the room's player count is asked for (GET /api/rooms). */
 const PLAYERS_EVERY_MS = 4000
 
@@ -213,7 +215,7 @@ function onSettled (message) {
   setBalance(message.balance)
   onAutoResult(message)
   if (local && !local.landingShown) state.settledUnseen.set(message.dropId, message)
-  else reveal(message, false)
+  else reveal(message, local?.landedOnScreenAt !== undefined && performance.now() - local.landedOnScreenAt < LATE_RESULT_MS)
   history.upsert(message.dropId, {
     room: message.room,
     bet: message.bet,
@@ -662,6 +664,7 @@ function onLanding (landing, now) {
   const drop = landing.drop
   const multiplier = state.view.board.multipliers[landing.bucket]
   if (!landing.stale) {
+    drop.landedOnScreenAt = now
     renderer.flash(landing.bucket, landing.mine, now)
     sound.landing(multiplier, landing.mine)
   }
