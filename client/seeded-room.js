@@ -7,9 +7,9 @@
  * drop's path depends on its seed and the board only), stepped one fixed
  * engine step at a time as the room clock passes each tick; each step's
  * state is recorded. A render tick t between steps i and i + 1 draws the
- * engine's interpolation between them (World.interpolatedPose: the
- * accumulator's alpha is the fraction t − ⌊t⌋), so at every whole tick the
- * drawn position is the engine's, bit for bit. A drop that arrives late
+ * engine's interpolation between them (World.interpolatedPose's formula,
+ * on the recorded states, with the accumulator's alpha = t − ⌊t⌋), so at
+ * every whole tick the drawn position is the engine's, bit for bit. A drop that arrives late
  * (another player's, batched every 1/EVENT_HZ; one joined mid-flight) is
  * stepped to where it is before it is drawn: fast-forwarded, never drawn
  * in the wrong place.
