@@ -8,7 +8,7 @@
  * A man in the middle that forges the flight hash makes the page switch
  * the room to snapshots and report the desync (POST /api/client-errors).
  */
-import { describe, it, expect } from 'vitest'
+import { describe, it, expect, afterEach } from 'vitest'
 import { createBoard, simulateDrop } from '../../engine/index.js'
 import { SNAPSHOT_KIND, ROOM_FRAME_KIND } from '../../protocol/snapshot-codec.js'
 import { DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
@@ -22,6 +22,12 @@ const LATE_MS = 250
 let server
 let chromium
 serverAndChromium({ tickRate: 60 }, (started) => ({ server, chromium } = started))
+
+/** Pages opened by the running test, closed after it whether it passed or not. */
+const opened = []
+afterEach(async () => {
+  for (const page of opened.splice(0)) await page.context().close().catch(() => {})
+})
 
 /**
  * Opens the page with its WebSocket routed through this process: binary
@@ -41,6 +47,7 @@ async function openRouted ({ delayMs = 0, alter = (frame) => frame } = {}) {
       else ws.send(frame)
     })
   })
+  opened.push(page)
   await page.goto(`${server.base}/`)
   await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
   return { page, kinds }
@@ -85,6 +92,7 @@ async function compareWithEngine (trace) {
 describe('seeds delivery on the player page', () => {
   it("draws a late joiner's balls at the engine's positions, with no snapshot frame and every desync check agreeing", async () => {
     const dropper = await openPlayer(chromium, server)
+    opened.push(dropper)
     expect(await dropper.evaluate(() => window.__plinko.delivery)).toBe('seeds')
     await dropFrom(dropper, 6)
 
@@ -93,6 +101,8 @@ describe('seeds delivery on the player page', () => {
     await page.evaluate(() => window.__plinko.startSeedsTrace())
     const joinedWith = await page.evaluate(() => window.__plinko.seeds.room.drops)
     expect(joinedWith).toBeGreaterThan(0)
+    // One more drop: its batch carries a desync check whatever the timing.
+    await dropper.click('#drop')
     await waitInPage(page, 'the balls to land and a desync check', () => {
       const seeds = window.__plinko.seeds
       return seeds.room.checks > 0 && window.__plinko.lastFrame.balls === 0 && seeds.trace.length > 0
@@ -110,35 +120,33 @@ describe('seeds delivery on the player page', () => {
     expect(kinds[ROOM_FRAME_KIND] ?? 0).toBe(0)
     expect(kinds[DROP_EVENTS_KIND]).toBeGreaterThan(0)
     expect(page.problems).toEqual([])
-    await page.context().close()
-    await dropper.context().close()
   })
 
   it(`fast-forwards other players' drops whose frames arrive ${LATE_MS} ms late: never drawn at their start`, async () => {
     const { page, kinds } = await openRouted({ delayMs: LATE_MS })
     await page.evaluate(() => window.__plinko.startSeedsTrace())
     const dropper = await openPlayer(chromium, server)
+    opened.push(dropper)
     await dropFrom(dropper, 5)
-    await waitInPage(page, "the other player's balls to land", () => {
+    const theirs = await dropper.evaluate(() => window.__plinko.history.map((h) => h.dropId))
+    await waitInPage(page, "the other player's balls to land", (ids) => {
       const seeds = window.__plinko.seeds
-      return seeds.room.drops >= 5 && seeds.room.inFlight === 0 && seeds.room.checks > 0
-    })
+      return ids.every((id) => seeds.trace.some((p) => p.dropId === id)) && seeds.room.inFlight === 0 && seeds.room.checks > 0
+    }, theirs)
     const seeds = await page.evaluate(() => window.__plinko.seeds)
     const { compared, worst } = await compareWithEngine(seeds.trace)
     // The first tick each drop was drawn at: at least the frame's delay after its release, less the page's own margin.
     const first = new Map()
-    for (const p of seeds.trace) if (!first.has(p.dropId)) first.set(p.dropId, p)
+    for (const p of seeds.trace) if (theirs.includes(p.dropId) && !first.has(p.dropId)) first.set(p.dropId, p)
     const ages = []
     for (const [dropId, p] of first) ages.push(p.tick - (await server.api('GET', `/api/public/drops/${dropId}`)).body.startTick)
     console.info(`[e2e] late frames: first drawn at ages ${ages.map((a) => a.toFixed(1)).join(', ')} ticks; ${compared} positions, largest difference ${worst} px; ${JSON.stringify(seeds.room)}`)
     expect(ages).toHaveLength(5)
     for (const age of ages) expect(age).toBeGreaterThanOrEqual((LATE_MS - SETTLE_MARGIN_MS) * 60 / 1000 - 1)
-    expect(seeds.room.fastForwarded).toBe(5)
+    expect(seeds.room.fastForwarded).toBeGreaterThanOrEqual(5)
     expect(worst).toBe(0)
     expect(seeds.room.mismatches).toBe(0)
     expect(kinds[SNAPSHOT_KIND] ?? 0).toBe(0)
-    await page.context().close()
-    await dropper.context().close()
   })
 
   it('switches the room to snapshots and reports it when the flight hash is forged', async () => {
@@ -154,6 +162,7 @@ describe('seeds delivery on the player page', () => {
     })
     const report = page.waitForRequest((request) => request.url().endsWith('/api/client-errors') && request.method() === 'POST')
     const dropper = await openPlayer(chromium, server)
+    opened.push(dropper)
     await dropFrom(dropper, 3)
     const request = await report
     const body = request.postDataJSON()
@@ -169,7 +178,5 @@ describe('seeds delivery on the player page', () => {
     expect((kinds[SNAPSHOT_KIND] ?? 0) + (kinds[ROOM_FRAME_KIND] ?? 0)).toBeGreaterThan(0)
     expect(await page.evaluate(() => window.__plinko.snapshotChecks.mismatches)).toBe(0)
     expect(await page.evaluate(() => window.__plinko.warnings)).toEqual([])
-    await page.context().close()
-    await dropper.context().close()
   })
 })
