@@ -17,6 +17,7 @@ import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
 import roomRoutes from './routes/rooms.js'
+import clientReportRoutes from './routes/client-reports.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -154,6 +155,7 @@ export async function buildApp (config, options = {}) {
   await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
   await app.register(dropRoutes, { store, authGuard })
   await app.register(roomRoutes, { coordinator })
+  await app.register(clientReportRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
