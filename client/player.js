@@ -675,8 +675,10 @@ function setUpControls () {
   mute.addEventListener('click', toggleMute)
   showMute()
 
-  // Keys: Space drops (also from the bet field: a number field types no space),
-  // S halves, D doubles, A starts or stops the auto-bet, M mutes; none while typing text.
+  // Keys: Space drops, S halves, D doubles, A starts or stops the auto-bet,
+  // M mutes; none while typing text. Space belongs to a focused control
+  // (a button presses, a summary opens): it drops only when nothing
+  // interactive has focus, or the Drop button has it.
   const keys = {
     Space: () => drop(),
     KeyS: () => changeBet('half'),
@@ -687,13 +689,21 @@ function setUpControls () {
   document.addEventListener('keydown', (event) => {
     const action = keys[event.code]
     if (!action || event.ctrlKey || event.metaKey || event.altKey || isTyping(event.target) || recall.isOpen) return
+    if (event.code === 'Space' && !spaceDrops(event.target)) return
     event.preventDefault()
     if (!event.repeat) action()
   })
-  // Space on a focused button would click it as well: the keydown above already dropped.
+  // Space on the focused Drop button would click it as well: the keydown above already dropped.
   document.addEventListener('keyup', (event) => {
-    if (event.code === 'Space' && !isTyping(event.target) && !recall.isOpen) event.preventDefault()
+    if (event.code === 'Space' && event.target === byId('drop') && !recall.isOpen) event.preventDefault()
   })
+}
+
+/** Space drops from the Drop button, or when what has focus is nothing a user operates. */
+function spaceDrops (target) {
+  if (target === byId('drop')) return true
+  if (!(target instanceof Element)) return true
+  return target.closest('button, a[href], input, select, textarea, summary, [tabindex], [contenteditable=""], [contenteditable="true"], [role="button"]') === null
 }
 
 /** Typing text (where Space and letters are the user's): text fields, text areas, selects, editable content. */
