@@ -14,7 +14,7 @@ import { HistoryView } from './history-view.js'
 import { FairnessPanel } from './fairness-panel.js'
 import { pegRowCount } from './peg-contacts.js'
 import { Sound } from './sound.js'
-import { AutoBet, clampBet } from './auto-bet.js'
+import { AutoBet, clampBet, STOP_RULE } from './auto-bet.js'
 import { SessionStats } from './session-stats.js'
 import { LiveFeed, BIG_WIN } from './live-feed.js'
 import { ResultsStrip } from './results-strip.js'
@@ -215,7 +215,7 @@ function onError (message) {
   if (typeof message.ref !== 'string' || !run || !run.refs.has(message.ref)) return
   // A refused auto-drop: try that ball again later, or stop when retrying cannot help.
   if (run.running && (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL')) {
-    run.retry()
+    run.retry(message.ref)
     renderAutoButton()
   } else {
     stopAuto(message.code === 'E_INSUFFICIENT_FUNDS' ? 'balance' : 'refused', message.code)
@@ -378,7 +378,8 @@ function autoRules () {
   const stopProfit = optional('auto-stop-profit')
   const stopLoss = optional('auto-stop-loss')
   const rule = (modeId, percentId) => ({ mode: byId(modeId).value === 'increase' ? 'increase' : 'reset', percent: Number(byId(percentId).value) || 0 })
-  const rules = { count, baseBet, stopProfit, stopLoss, onWin: rule('auto-on-win', 'auto-win-percent'), onLoss: rule('auto-on-loss', 'auto-loss-percent') }
+  const guard = /** @type {HTMLInputElement} */ (byId('auto-guard')).checked
+  const rules = { count, baseBet, stopProfit, stopLoss, guard, onWin: rule('auto-on-win', 'auto-win-percent'), onLoss: rule('auto-on-loss', 'auto-loss-percent') }
   if (!Number.isSafeInteger(count) || count < 1) return say('Auto-bet needs a number of bets (1 or more).', 'error')
   if (!Number.isSafeInteger(baseBet) || baseBet < state.minBet || baseBet > state.maxBet) return say(`The bet must be a whole number from ${state.minBet} to ${formatAmount(state.maxBet)}.`, 'error')
   for (const limit of [stopProfit, stopLoss]) if (limit !== null && !(limit > 0)) return say('Stop on profit and stop on loss are amounts above 0 (or empty: off).', 'error')
@@ -399,7 +400,7 @@ function resumeAuto () {
   const run = state.autoRun
   if (!run || run.stopReason !== 'disconnected' || run.remaining <= 0) return
   if (!state.joinedRoom) return say('Still not connected: the auto-bet can resume once the page is back in its room.', 'error')
-  run.stopReason = null
+  run.resume()
   say(`Auto-bet resumed: ${run.remaining} bets left.`)
   runAuto()
 }
@@ -410,9 +411,12 @@ function runAuto () {
     if (!run.running) return stopAuto(run.stopReason)
     const bet = run.nextBet(state.balance)
     if (bet === null) return stopAuto('balance')
+    const guard = run.guardBet(bet)
+    if (guard === 'stop') return stopAuto('guard')
+    if (guard === 'wait') return showAutoStatus()
     const ref = `auto-${++state.refs}`
     if (!drop(ref, bet)) return stopAuto(state.joinedRoom ? 'refused' : 'disconnected')
-    run.markSent(ref)
+    run.markSent(ref, bet)
     renderAutoButton()
     if (!run.running) stopAuto(run.stopReason)
     else showAutoStatus()
@@ -426,7 +430,7 @@ function runAuto () {
 function onAutoResult (settled) {
   const run = state.autoRun
   if (!run || !run.dropIds.has(settled.dropId)) return
-  const stopped = run.result({ bet: settled.bet, payout: settled.payout })
+  const stopped = run.result({ bet: settled.bet, payout: settled.payout, dropId: settled.dropId })
   if (stopped) stopAuto(stopped)
   else showAutoStatus()
 }
@@ -439,20 +443,30 @@ function stopAuto (reason = 'stopped', detail) {
   if (run) {
     run.stop(reason)
     if (detail) run.detail = detail
-    if (run.stopReason !== 'done') say(AUTO_STOPS[run.stopReason](run), 'error')
   }
   renderAutoButton()
   showAutoStatus()
 }
 
+/** Why a run stopped sending, with where it stood then (`run.stoppedAt`). */
 const AUTO_STOPS = {
-  done: (run) => `Auto-bet finished: ${run.sent} bets sent, profit ${formatSigned(run.profit)} so far.`,
-  profit: (run) => `Auto-bet stopped: the profit of ${formatSigned(run.profit)} reached the stop on profit.`,
-  loss: (run) => `Auto-bet stopped: the loss of ${formatAmount(-run.profit)} reached the stop on loss.`,
-  balance: () => 'Auto-bet stopped: the balance does not cover the bet.',
-  disconnected: (run) => `Auto-bet stopped: the connection was lost after ${run.sent} of ${run.rules.count} bets.`,
-  refused: (run) => `Auto-bet stopped: a drop was refused${run.detail ? ` (${run.detail})` : ''}.`,
-  stopped: (run) => `Auto-bet stopped after ${run.sent} of ${run.rules.count} bets.`
+  done: (run, at) => `Auto-bet sent all ${at.sent} bets.`,
+  profit: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the stop on profit of ${formatAmount(run.rules.stopProfit)} was reached.`,
+  loss: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the stop on loss of ${formatAmount(run.rules.stopLoss)} was reached.`,
+  guard: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the next bet of ${formatAmount(run.bet)} could take the loss past the stop on loss of ${formatAmount(run.rules.stopLoss)}.`,
+  balance: (run, at) => `Auto-bet stopped after ${at.sent} bets: the balance does not cover the bet.`,
+  disconnected: (run, at) => `Auto-bet stopped: the connection was lost after ${at.sent} of ${run.rules.count} bets.`,
+  refused: (run, at) => `Auto-bet stopped after ${at.sent} bets: a drop was refused${run.detail ? ` (${run.detail})` : ''}.`,
+  stopped: (run, at) => `Auto-bet stopped after ${at.sent} of ${run.rules.count} bets.`
+}
+
+/** The run's status: while sending, its progress; once stopped, why and where, then one final result once its last ball has landed. */
+function autoStatusText (run) {
+  if (run.running) return `Auto-bet: ${run.sent} of ${run.rules.count} sent, next bet ${formatAmount(run.bet)}, profit ${formatSigned(run.profit)}${run.inFlight > 0 ? ` (${run.inFlight} falling)` : ''}.`
+  const why = AUTO_STOPS[run.stopReason](run, run.stoppedAt ?? { profit: run.profit, sent: run.sent, settled: run.settled })
+  if (!run.finished) return `${why} ${run.inFlight} ball${run.inFlight === 1 ? '' : 's'} still falling: the final result follows when ${run.inFlight === 1 ? 'it lands' : 'they land'}.`
+  const late = run.settled - (run.stoppedAt?.settled ?? run.settled)
+  return `${why} Final result: ${formatSigned(run.profit)} over ${run.settled} bet${run.settled === 1 ? '' : 's'}${late > 0 ? `, counting the ${late} ball${late === 1 ? '' : 's'} still falling when it stopped` : ''}.`
 }
 
 function showAutoStatus () {
@@ -460,10 +474,8 @@ function showAutoStatus () {
   const box = byId('auto-status')
   if (!run) { box.hidden = true; return }
   box.hidden = false
-  box.dataset.state = run.running ? 'running' : run.stopReason
-  byId('auto-status-text').textContent = run.running
-    ? `Auto-bet: ${run.sent} of ${run.rules.count} sent, next bet ${formatAmount(run.bet)}, profit ${formatSigned(run.profit)}.`
-    : AUTO_STOPS[run.stopReason](run)
+  box.dataset.state = run.running ? 'running' : run.finished ? 'finished' : run.stopReason
+  byId('auto-status-text').textContent = autoStatusText(run)
   const resumable = run.stopReason === 'disconnected' && run.remaining > 0
   const resume = byId('auto-resume')
   resume.hidden = !resumable
@@ -502,6 +514,7 @@ async function loadHistory () {
       // Settled while this page was away (a reconnect): its result is final, and shown now.
       if (record.status === 'settled' && state.ownDrops.has(record.id) && !state.revealed.has(record.id) && !state.view?.drops.has(record.id)) {
         reveal({ dropId: record.id, room: record.room, bet: record.bet, multiplier: record.multiplier, payout: record.payout, bucket: record.bucket }, false)
+        onAutoResult({ dropId: record.id, bet: record.bet, payout: record.payout })
       }
       const verification = verifier.settleFromRecord(record)
       if (verification && !verification.verified) warnMismatch(verification)
@@ -662,6 +675,7 @@ function setUpControls () {
   }
   byId('drop').addEventListener('click', () => drop())
   byId('board').addEventListener('click', () => drop())
+  byId('auto-rule').textContent = STOP_RULE
   byId('auto').addEventListener('click', toggleAuto)
   byId('auto-resume').addEventListener('click', resumeAuto)
   byId('session-reset').addEventListener('click', () => stats.reset())
@@ -747,7 +761,7 @@ window.__plinko = {
   get session () { return stats.summary },
   get auto () {
     const run = state.autoRun
-    return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null
+    return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, inFlight: run.inFlight, finished: run.finished, stoppedAt: run.stoppedAt && { ...run.stoppedAt }, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null
   },
   get recall () { return recall.state },
   get firstBoardFrameAt () { return state.firstBoardFrameAt },
