@@ -19,6 +19,7 @@ import { SessionStats } from './session-stats.js'
 import { LiveFeed, BIG_WIN } from './live-feed.js'
 import { ResultsStrip } from './results-strip.js'
 import { RecallView } from './recall-view.js'
+import { SessionHistory } from './session-history.js'
 
 /**
  * The player's page: connects with the guest session, joins the chosen
@@ -40,6 +41,8 @@ const MAX_REDIRECTS = 3
 const FLOAT_WIN = 2
 /** How often the room's player count is asked for (GET /api/rooms). */
 const PLAYERS_EVERY_MS = 4000
+/** Drops in the history table (GET /api/drops?limit=). */
+const HISTORY_LIMIT = 50
 
 const session = new Session()
 const verifier = new DropVerifier()
@@ -53,6 +56,7 @@ const sound = new Sound()
 const stats = new SessionStats({ wagered: byId('stat-wagered'), profit: byId('stat-profit'), drops: byId('stat-drops'), best: byId('stat-best'), chart: byId('profit-chart') })
 const feed = new LiveFeed(byId('feed'))
 const recent = new ResultsStrip(byId('recent'))
+const sessionHistory = new SessionHistory(session)
 const snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 }
 
 const state = {
@@ -232,18 +236,51 @@ function onError (message) {
  */
 function reveal (settled, live) {
   if (state.revealed.has(settled.dropId) || !state.ownDrops.has(settled.dropId)) return
-  state.revealed.add(settled.dropId)
   state.settledUnseen.delete(settled.dropId)
-  const parsed = parseRoomId(settled.room)
-  const engineVersion = state.view?.drops.get(settled.dropId)?.engineVersion
-  const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
-  const colors = board ? bucketColors(board.multipliers) : []
-  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf' })
-  stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
+  showResult(settled, state.view?.drops.get(settled.dropId)?.engineVersion, true)
   if (!live || settled.room !== state.joinedRoom) return
   const now = performance.now()
   if (settled.multiplier >= FLOAT_WIN) renderer.floatText(settled.bucket, `+${formatAmount(settled.payout)}`, now, { big: settled.multiplier >= BIG_WIN })
   if (settled.multiplier >= BIG_WIN) renderer.celebrate(settled.bucket, now)
+}
+
+/**
+ * A result into the strip and (`counted`) the session stats, once.
+ * @param {{ dropId: number, room: string, bet: number, payout: number, multiplier: number, bucket: number }} settled
+ * @param {string} [engineVersion] @param {boolean} counted
+ */
+function showResult (settled, engineVersion, counted) {
+  state.revealed.add(settled.dropId)
+  const parsed = parseRoomId(settled.room)
+  const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
+  const colors = board ? bucketColors(board.multipliers) : []
+  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf' })
+  if (counted) stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
+}
+
+/**
+ * After a reload: this tab session's results back into the strip and the
+ * session stats, from the server's history; its drops still falling are
+ * the page's own again, so their results show when they settle.
+ */
+async function restoreSession (playerId, firstPage) {
+  try {
+    const { drops, statsAfter } = await sessionHistory.load(playerId, await firstPage)
+    for (const record of drops) {
+      if (state.revealed.has(record.id)) continue
+      if (record.status !== 'settled') { state.ownDrops.add(record.id); continue }
+      showResult({ dropId: record.id, room: record.room, bet: record.bet, payout: record.payout, multiplier: record.multiplier, bucket: record.bucket }, record.engineVersion, record.id > statsAfter)
+    }
+  } catch (error) {
+    say(`Could not load this session's results: ${error.message}`, 'error')
+  }
+}
+
+function resetSession () {
+  stats.reset()
+  let newest = 0
+  for (const id of state.revealed) newest = Math.max(newest, id)
+  sessionHistory.resetStats(newest)
 }
 
 function addToFeed (settled) {
@@ -506,10 +543,11 @@ function changeBet (how) {
   if (how === 'double' && clamped !== null && clamped < next) say(`The bet is capped at ${formatAmount(clamped)} (${clamped === state.maxBet ? 'the table limit' : 'your balance'}).`)
 }
 
-async function loadHistory () {
+/** @param {Promise<{ drops: any[] }>} [page] the newest drops, if read already */
+async function loadHistory (page) {
   if (!session.token) return
   try {
-    const { drops } = await session.request('GET', '/api/drops?limit=50')
+    const { drops } = await (page ?? session.request('GET', `/api/drops?limit=${HISTORY_LIMIT}`))
     for (const record of drops.slice().reverse()) {
       // Settled while this page was away (a reconnect): its result is final, and shown now.
       if (record.status === 'settled' && state.ownDrops.has(record.id) && !state.revealed.has(record.id) && !state.view?.drops.has(record.id)) {
@@ -678,7 +716,7 @@ function setUpControls () {
   byId('auto-rule').textContent = STOP_RULE
   byId('auto').addEventListener('click', toggleAuto)
   byId('auto-resume').addEventListener('click', resumeAuto)
-  byId('session-reset').addEventListener('click', () => stats.reset())
+  byId('session-reset').addEventListener('click', resetSession)
   const mute = byId('mute')
   const showMute = () => {
     mute.setAttribute('aria-pressed', String(sound.muted))
@@ -802,7 +840,10 @@ async function connect () {
     setTimeout(connect, 3000)
     return
   }
-  await Promise.all([loadHistory(), fairness.loadSeeds()])
+  // One read of the newest drops for both the history and the session's results.
+  const firstPage = session.request('GET', `/api/drops?limit=${HISTORY_LIMIT}`).then(({ drops }) => ({ drops, limit: HISTORY_LIMIT }))
+  firstPage.catch(() => {})
+  await Promise.all([loadHistory(firstPage), fairness.loadSeeds(), restoreSession(state.playerId, firstPage)])
   socket.start()
 }
 
