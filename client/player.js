@@ -1,6 +1,6 @@
 import { ENGINE_VERSION, isEngineVersion } from '/engine/index.js'
 import { apiRequest } from './api.js'
-import { byId, el, formatAmount, formatSigned, shortHex } from './dom.js'
+import { byId, el, formatAmount, formatSigned, shortHex, showAmount } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
 import { decodeSnapshot, splitRoomFrame } from '/protocol/snapshot-codec.js'
@@ -575,7 +575,7 @@ async function loadHistory (page) {
 
 function setBalance (balance) {
   state.balance = balance
-  byId('balance').textContent = formatAmount(balance)
+  showAmount(byId('balance'), balance)
 }
 
 function say (text, kind = 'info') {

@@ -1,5 +1,5 @@
 import { simulateDrop, isEngineVersion, ENGINE_VERSIONS } from '/engine/index.js'
-import { byId, el, fill, formatAmount, formatMultiplier } from './dom.js'
+import { byId, el, fill, exactAmount, exactMultiplier } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
@@ -93,7 +93,7 @@ export class RecallView {
     const row = (name, value, id) => [el('dt', { text: name }), el('dd', { id, class: typeof value === 'string' && value.length > 24 ? 'seed' : '', text: String(value) })]
     fill(byId('recall-data'),
       ...row('Room', `${record.room} (engine ${record.engineVersion})`),
-      ...row('Bet → payout', `${formatAmount(record.bet)} → ${formatAmount(record.payout)} (${record.multiplier === null ? '–' : formatMultiplier(record.multiplier)})`),
+      ...row('Bet → payout', `${exactAmount(record.bet)} → ${exactAmount(record.payout)} (${record.multiplier === null ? '–' : exactMultiplier(record.multiplier)})`),
       ...row('Bucket, ticks', `${outcome.bucket} after ${outcome.ticks} ticks (recorded ${record.bucket ?? '–'} after ${record.ticks ?? '–'})`),
       ...row('Final state hash', outcome.stateHash),
       ...row('Server seed hash (committed)', record.serverSeedHash),

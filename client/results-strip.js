@@ -1,4 +1,4 @@
-import { el, formatMultiplier } from './dom.js'
+import { el, formatMultiplier, exactMultiplier } from './dom.js'
 
 /** Results shown. */
 export const RECENT_RESULTS = 16
@@ -21,7 +21,7 @@ export class ResultsStrip {
     if (this.entries.some((e) => e.dropId === result.dropId)) return
     this.entries.unshift(result)
     this.list.querySelector('.placeholder')?.remove()
-    const chip = el('li', { class: 'chip fresh', title: `drop #${result.dropId}: bucket ${result.bucket}`, dataset: { dropId: String(result.dropId) }, text: formatMultiplier(result.multiplier) })
+    const chip = el('li', { class: 'chip fresh', title: `drop #${result.dropId}: bucket ${result.bucket}, ${exactMultiplier(result.multiplier)}`, dataset: { dropId: String(result.dropId) }, text: formatMultiplier(result.multiplier) })
     chip.style.background = result.color
     this.list.prepend(chip)
     while (this.entries.length > RECENT_RESULTS) {

@@ -2,12 +2,15 @@
  * Issue #24's results and session items, in Chromium against the real
  * server: the recent-results column never clips a chip, at both sizes;
  * the column and the session stats survive a reload (read back from the
- * server's history), a reset included, and a new tab starts afresh.
+ * server's history), a reset included, and a new tab starts afresh;
+ * money as players read it (two decimals) with the exact value on hover
+ * and in the record, multipliers rounded for display; the session's
+ * figures on one line whatever their size.
  */
 import { describe, it, expect } from 'vitest'
 import { waitInPage } from './helpers/browser.js'
 import { serverAndChromium } from './helpers/testbed.js'
-import { openPlayer, screenshotBoth, expectNotBlank, DESKTOP, PHONE } from './helpers/player-page.js'
+import { openPlayer, screenshotBoth, expectNotBlank, activeServerSeed, clientSeedFor, setClientSeed, DESKTOP, PHONE } from './helpers/player-page.js'
 import { RECENT_RESULTS } from '../../client/results-strip.js'
 
 let server
@@ -99,6 +102,80 @@ describe('player page: results and session', () => {
     await waitInPage(tab, 'the new tab to join', () => window.__plinko?.ready === true)
     expect(await tab.evaluate(() => window.__plinko.playerId)).toBe(await page.evaluate(() => window.__plinko.playerId))
     expect(await tab.evaluate(() => ({ recent: window.__plinko.recent.length, drops: window.__plinko.session.drops }))).toEqual({ recent: 0, drops: 0 })
+    await page.context().close()
+  })
+
+  it('shows money with two decimals and the exact amount on hover and in the record; multipliers rounded for display', async () => {
+    const page = await openPlayer(chromium, server)
+    await page.selectOption('#rows', '8')
+    await page.selectOption('#risk', 'high')
+    await waitInPage(page, 'the 8-row high-risk room', () => window.__plinko.room === '8-high')
+    const playerId = await page.evaluate(() => window.__plinko.playerId)
+    const { serverSeed, nextNonce } = await activeServerSeed(server, playerId)
+    const pick = await clientSeedFor({ serverSeed, nonce: nextNonce, rows: 8, risk: 'high', wanted: (m) => m === 0.201 })
+    await setClientSeed(page, pick.clientSeed)
+    await page.fill('#bet', '1')
+    await page.click('#drop')
+    await waitInPage(page, 'the result shown', () => window.__plinko.session.drops === 1 && window.__plinko.history[0]?.payout !== null)
+
+    const cell = (selector) => page.evaluate((s) => { const n = document.querySelector(s); return { text: n.textContent, title: n.getAttribute('title') } }, selector)
+    const row = '#history tr:first-child'
+    expect(await cell(`${row} td:nth-child(4)`)).toEqual({ text: '0.2×', title: 'exactly 0.201×' })
+    expect(await cell(`${row} td:nth-child(5)`)).toEqual({ text: '0.20', title: 'exactly 0.201' })
+    expect(await cell('#feed tr:first-child td:nth-child(4)')).toEqual({ text: '0.20', title: 'exactly 0.201' })
+    expect(await cell('#balance')).toEqual({ text: '99,999.20', title: 'exactly 99,999.201' })
+    expect(await cell('#stat-profit')).toEqual({ text: '−0.80', title: 'exactly −0.799' })
+    expect(await cell('#stat-wagered')).toEqual({ text: '1', title: null })
+    expect(await page.textContent('#recent li:first-child')).toBe('0.2×')
+    // The board's labels are rounded too: no label has more than two decimals.
+    const labels = await page.evaluate(() => window.__plinko.labels.map((l) => l.text))
+    expect(labels).toContain('0.22×')
+    for (const label of labels) expect(label).toMatch(/^\d+(\.\d{1,2})?×$/)
+    // The record keeps the exact values.
+    await page.click(`${row} .recall-button`)
+    await waitInPage(page, 'the recall', () => window.__plinko.recall?.open)
+    expect(await page.textContent('#recall-data')).toContain('1 → 0.201 (0.201×)')
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('keeps every session figure on one line, and the panel its height, with a seven-figure profit at both sizes', async () => {
+    const page = await openPlayer(chromium, server)
+    const measure = () => page.evaluate(() => {
+      const lineHeight = (n) => parseFloat(getComputedStyle(n).lineHeight) || parseFloat(getComputedStyle(n).fontSize) * 1.3
+      return {
+        panel: document.querySelector('.panel.session').getBoundingClientRect().height,
+        figures: [...document.querySelectorAll('.stat-grid strong')].map((n) => ({ id: n.id, text: n.textContent, lines: Math.round(n.getBoundingClientRect().height / lineHeight(n)), cut: n.scrollWidth > n.clientWidth + 1 }))
+      }
+    })
+    const heights = {}
+    for (const viewport of [DESKTOP, PHONE]) {
+      await page.setViewportSize(viewport)
+      heights[viewport.width] = (await measure()).panel
+    }
+    await page.setViewportSize(DESKTOP)
+    // All in at 53×, then a bet of 1 that loses cents: a profit of "+5,199,999.31"-like width.
+    const playerId = await page.evaluate(() => window.__plinko.playerId)
+    const { serverSeed, nextNonce } = await activeServerSeed(server, playerId)
+    const big = await clientSeedFor({ serverSeed, nonce: nextNonce, rows: 16, risk: 'medium', wanted: (m) => m >= 50 })
+    await setClientSeed(page, big.clientSeed)
+    await page.fill('#bet', '100000')
+    await page.click('#drop')
+    await waitInPage(page, 'the big win shown', () => window.__plinko.session.drops === 1)
+    const small = await clientSeedFor({ serverSeed, nonce: nextNonce + 1, rows: 16, risk: 'medium', wanted: (m) => m < 1 })
+    await setClientSeed(page, small.clientSeed)
+    await page.fill('#bet', '1')
+    await page.click('#drop')
+    await waitInPage(page, 'the small loss shown', () => window.__plinko.session.drops === 2)
+    for (const viewport of [DESKTOP, PHONE]) {
+      await page.setViewportSize(viewport)
+      await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))))
+      const seen = await measure()
+      expect(seen.figures.find((f) => f.id === 'stat-profit').text).toMatch(/^\+5,\d{3},\d{3}\.\d{2}$/)
+      for (const figure of seen.figures) expect(figure, `${figure.id} at ${viewport.width} px`).toMatchObject({ lines: 1, cut: false })
+      expect(seen.panel, `session panel height at ${viewport.width} px`).toBe(heights[viewport.width])
+    }
+    expect(page.problems).toEqual([])
     await page.context().close()
   })
 })
