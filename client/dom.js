@@ -126,6 +126,21 @@ export function multiplierTitle (value) {
   return exactMultiplier(value) === formatMultiplier(value) ? undefined : `exactly ${exactMultiplier(value)}`
 }
 
+/** Local date and time with its zone, in the reader's locale (LOCAL_TIME_OPTIONS). */
+export const LOCAL_TIME_OPTIONS = Object.freeze({ year: 'numeric', month: 'short', day: 'numeric', hour: '2-digit', minute: '2-digit', second: '2-digit', timeZoneName: 'short' })
+const LOCAL_TIME = new Intl.DateTimeFormat(undefined, LOCAL_TIME_OPTIONS)
+
+/**
+ * A recorded time (ISO 8601, UTC) in the reader's time zone, e.g.
+ * "Dec 1, 2026, 11:27:24 PM EST"; the record keeps the UTC original.
+ * @param {string | null | undefined} iso
+ */
+export function formatLocalTime (iso) {
+  if (!iso) return '–'
+  const date = new Date(iso)
+  return Number.isNaN(date.getTime()) ? iso : LOCAL_TIME.format(date)
+}
+
 /** The first and last characters of a long hex string. @param {string | null | undefined} hex */
 export function shortHex (hex, keep = 8) {
   if (!hex) return '–'

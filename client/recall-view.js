@@ -1,5 +1,5 @@
 import { simulateDrop, isEngineVersion, ENGINE_VERSIONS } from '/engine/index.js'
-import { byId, el, fill, exactAmount, exactMultiplier } from './dom.js'
+import { byId, el, fill, exactAmount, exactMultiplier, formatLocalTime } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
@@ -100,7 +100,8 @@ export class RecallView {
       ...row('Server seed', record.serverSeed ?? 'secret until you rotate the server seed', 'recall-server-seed'),
       ...row('Client seed · nonce', `${record.clientSeed} · ${record.nonce}`),
       ...row('Drop seed', record.dropSeed),
-      ...row('Played', record.createdAt.replace('T', ' ').slice(0, 19)))
+      ...row('Played', formatLocalTime(record.createdAt), 'recall-played'),
+      ...row('Played (UTC, as recorded)', record.createdAt, 'recall-played-utc'))
   }
 
   _showState (p) {

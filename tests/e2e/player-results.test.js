@@ -5,13 +5,15 @@
  * server's history), a reset included, and a new tab starts afresh;
  * money as players read it (two decimals) with the exact value on hover
  * and in the record, multipliers rounded for display; the session's
- * figures on one line whatever their size.
+ * figures on one line whatever their size; times in the player's zone,
+ * the record's UTC kept beside them.
  */
 import { describe, it, expect } from 'vitest'
 import { waitInPage } from './helpers/browser.js'
 import { serverAndChromium } from './helpers/testbed.js'
 import { openPlayer, screenshotBoth, expectNotBlank, activeServerSeed, clientSeedFor, setClientSeed, DESKTOP, PHONE } from './helpers/player-page.js'
 import { RECENT_RESULTS } from '../../client/results-strip.js'
+import { LOCAL_TIME_OPTIONS } from '../../client/dom.js'
 
 let server
 let chromium
@@ -175,6 +177,24 @@ describe('player page: results and session', () => {
       for (const figure of seen.figures) expect(figure, `${figure.id} at ${viewport.width} px`).toMatchObject({ lines: 1, cut: false })
       expect(seen.panel, `session panel height at ${viewport.width} px`).toBe(heights[viewport.width])
     }
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('shows when a drop was played in the player\'s own time zone, and keeps the recorded UTC time', async () => {
+    const page = await openPlayer(chromium, server, { timezoneId: 'America/New_York', locale: 'en-US' })
+    await page.click('#drop')
+    await waitInPage(page, 'a settled drop', () => window.__plinko.history[0]?.payout != null)
+    const dropId = await page.evaluate(() => window.__plinko.history[0].dropId)
+    const record = await server.arena.store.getDrop(dropId)
+    await page.click('#history tr:first-child .recall-button')
+    await waitInPage(page, 'the recall', () => window.__plinko.recall?.open)
+    const utc = await page.textContent('#recall-played-utc')
+    expect(new Date(utc).getTime()).toBe(new Date(record.createdAt).getTime())
+    expect(utc).toMatch(/Z$/)
+    const local = new Intl.DateTimeFormat('en-US', { ...LOCAL_TIME_OPTIONS, timeZone: 'America/New_York' }).format(new Date(utc))
+    expect(local).toMatch(/E[SD]T$/)
+    expect(await page.textContent('#recall-played')).toBe(local)
     expect(page.problems).toEqual([])
     await page.context().close()
   })
