@@ -46,7 +46,7 @@ const HISTORY_LIMIT = 50
 
 const session = new Session()
 const verifier = new DropVerifier()
-const renderer = new BoardRenderer(byId('board'))
+const renderer = new BoardRenderer(byId('board'), { maxHeight: boardMaxHeight })
 const history = new HistoryView(byId('history'),
   (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: 'smooth' })),
   (dropId) => recall.open(dropId))
@@ -683,6 +683,15 @@ function onLanding (landing, now) {
 }
 
 // ---- set-up -------------------------------------------------------------
+
+/**
+ * The tallest the board may be (CSS px), as the stylesheet's
+ * --board-max-height: on a wide screen the window's height less the
+ * header and margins (5.5rem), so the board fills the stage; else 72% of it.
+ */
+function boardMaxHeight () {
+  return matchMedia('(min-width: 900px)').matches ? window.innerHeight - 5.5 * 16 : window.innerHeight * 0.72
+}
 
 function initialRoom () {
   const stored = localStorage.getItem(ROOM_KEY)
