@@ -9,7 +9,7 @@ import { socketUrl } from './socket-url.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { DropVerifier } from './drop-verifier.js'
-import { BoardRenderer, bucketColors } from './board-renderer.js'
+import { BoardRenderer, bucketColors, bucketTextColors } from './board-renderer.js'
 import { HistoryView } from './history-view.js'
 import { FairnessPanel } from './fairness-panel.js'
 import { pegRowCount } from './peg-contacts.js'
@@ -254,7 +254,8 @@ function showResult (settled, engineVersion, counted) {
   const parsed = parseRoomId(settled.room)
   const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
   const colors = board ? bucketColors(board.multipliers) : []
-  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf' })
+  const textColors = board ? bucketTextColors(board.multipliers) : []
+  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf', textColor: textColors[settled.bucket] })
   if (counted) stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
 }
 
@@ -799,7 +800,7 @@ window.__plinko = {
   /** balls drawn in the last frame, and how many of them no announcement explains */
   get lastFrame () { return { ...state.lastFrame } },
   get ownInFlight () { return state.view ? state.view.ownInFlight : 0 },
-  get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice() } },
+  get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice(), floating: renderer.floaters.length } },
   get labels () { return renderer.labels.map((l) => ({ ...l })) },
   get sound () { return { muted: sound.muted, unlocked: sound.unlocked, state: sound.context ? sound.context.state : null, ...sound.played } },
   get recent () { return recent.entries.map((e) => ({ ...e })) },

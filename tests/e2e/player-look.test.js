@@ -1,15 +1,28 @@
 /**
  * Issue #24's layout and look items, in Chromium against the real server:
- * a board that fills the desktop stage.
+ * a board that fills the desktop stage; bucket labels and key hints at
+ * WCAG AA contrast (4.5:1) and readable sizes; floating payouts that never
+ * cover the bucket labels.
  */
 import { describe, it, expect } from 'vitest'
 import { waitInPage } from './helpers/browser.js'
 import { serverAndChromium } from './helpers/testbed.js'
-import { openPlayer, DESKTOP, PHONE } from './helpers/player-page.js'
+import { openPlayer, activeServerSeed, clientSeedFor, setClientSeed, DESKTOP, PHONE } from './helpers/player-page.js'
 
 let server
 let chromium
 serverAndChromium({ tickRate: 180 }, (started) => ({ server, chromium } = started))
+
+/** WCAG 2 contrast ratio of two CSS colours, as the browser resolves them (runs in the page). */
+const CONTRAST = `(a, b) => {
+  const probe = document.createElement('i')
+  document.body.append(probe)
+  const rgb = (css) => { probe.style.color = ''; probe.style.color = css; return getComputedStyle(probe).color.match(/[\\d.]+/g).slice(0, 3).map(Number) }
+  const lum = (css) => { const [r, g, b] = rgb(css).map((v) => { v /= 255; return v <= 0.03928 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4 }); return 0.2126 * r + 0.7152 * g + 0.0722 * b }
+  const [x, y] = [lum(a), lum(b)].sort((p, q) => q - p)
+  probe.remove()
+  return (x + 0.05) / (y + 0.05)
+}`
 
 const nextFrames = (page) => page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))))
 
@@ -33,6 +46,66 @@ describe('player page: layout and look', () => {
     expect(phone.canvas.width).toBeGreaterThanOrEqual(phone.stage.width - 2)
     await page.setViewportSize(DESKTOP)
     await waitInPage(page, 'the board resized back', (h) => document.querySelector('#board').getBoundingClientRect().height === h, desktop.canvas.height)
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('draws the bucket labels and the key hints at WCAG AA contrast and readable sizes, at both sizes', async () => {
+    const page = await openPlayer(chromium, server)
+    for (const viewport of [DESKTOP, PHONE]) {
+      await page.setViewportSize(viewport)
+      await nextFrames(page)
+      await nextFrames(page)
+      const labels = await page.evaluate(`(() => { const contrast = ${CONTRAST}; return window.__plinko.labels.map((l) => ({ ...l, contrast: contrast(l.color, l.background) })) })()`)
+      expect(labels).toHaveLength(17)
+      for (const label of labels) {
+        expect(label.px, `${label.text} at ${viewport.width} px`).toBeGreaterThanOrEqual(11)
+        expect(label.contrast, `${label.text} at ${viewport.width} px`).toBeGreaterThanOrEqual(4.5)
+      }
+    }
+    await page.setViewportSize(DESKTOP)
+    await nextFrames(page)
+    // Every key hint shown: 12 px or more, 4.5:1 against the first solid background behind it, nothing faded.
+    const hints = await page.evaluate(`(() => {
+      const contrast = ${CONTRAST}
+      return [...document.querySelectorAll('kbd')].filter((k) => k.getClientRects().length > 0).map((k) => {
+        let node = k
+        let background = null
+        let opacity = 1
+        for (; node; node = node.parentElement) {
+          const style = getComputedStyle(node)
+          opacity *= Number(style.opacity)
+          if (!background && style.backgroundColor !== 'rgba(0, 0, 0, 0)' && style.backgroundImage === 'none') background = style.backgroundColor
+          if (!background && style.backgroundImage !== 'none') background = 'gradient'
+        }
+        const style = getComputedStyle(k)
+        return { text: k.textContent, px: parseFloat(style.fontSize), opacity, background, contrast: background === 'gradient' ? 0 : contrast(style.color, background) }
+      })
+    })()`)
+    expect(hints.length).toBeGreaterThanOrEqual(7)
+    for (const hint of hints) {
+      expect(hint.px, `"${hint.text}" size`).toBeGreaterThanOrEqual(12)
+      expect(hint.opacity, `"${hint.text}" opacity`).toBe(1)
+      expect(hint.contrast, `"${hint.text}" contrast on ${hint.background}`).toBeGreaterThanOrEqual(4.5)
+    }
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('floats a payout clear of the bucket labels, at both sizes', async () => {
+    const page = await openPlayer(chromium, server)
+    const playerId = await page.evaluate(() => window.__plinko.playerId)
+    for (const [i, viewport] of [DESKTOP, PHONE].entries()) {
+      await page.setViewportSize(viewport)
+      await nextFrames(page)
+      const { serverSeed, nextNonce } = await activeServerSeed(server, playerId)
+      const win = await clientSeedFor({ serverSeed, nonce: nextNonce, rows: 16, risk: 'medium', wanted: (m) => m >= 2 && m < 10 })
+      await setClientSeed(page, win.clientSeed)
+      await page.click('#drop')
+      await waitInPage(page, 'the payout to float and finish', (n) => window.__plinko.effects.floaters === n && window.__plinko.effects.floating === 0, i + 1)
+      const clearance = await page.evaluate(() => window.__plinko.effects.floaterClearance)
+      expect(clearance, `room between the payout and the buckets at ${viewport.width} px`).toBeGreaterThanOrEqual(0)
+    }
     expect(page.problems).toEqual([])
     await page.context().close()
   })
