@@ -78,7 +78,11 @@ export class BoardRenderer {
     this.bursts = []
     /** Effects started so far, by kind (for tests and the curious). */
     /** floaterClearance: the least room (CSS px) between a floating payout and the bucket boxes below it, over every frame drawn (null: none yet) */
-    this.effects = { pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0, floaterClearance: null }
+    this.effects = { pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0, trails: 0, floaterClearance: null }
+    // prefers-reduced-motion: no glows, pops, floating payouts, bursts or trails (the balls and the board only).
+    const reduce = typeof matchMedia === 'function' ? matchMedia('(prefers-reduced-motion: reduce)') : null
+    this.reducedMotion = Boolean(reduce?.matches)
+    reduce?.addEventListener('change', (event) => { this.reducedMotion = event.matches })
     /** @type {string[]} the texts of the floating payouts shown, latest last (at most 50) */
     this.floaterTexts = []
     this._colors = []
@@ -194,12 +198,14 @@ export class BoardRenderer {
 
   /** Bounces bucket `bucket` and pops its multiplier. @param {number} bucket @param {boolean} mine @param {number} now */
   flash (bucket, mine, now) {
+    if (this.reducedMotion) return
     this.flashes.push({ bucket, mine, start: now })
     this.effects.bucketPops++
   }
 
   /** A short glow on peg `peg` (index in board.pegs). @param {number} peg @param {boolean} mine @param {number} now */
   glowPeg (peg, mine, now) {
+    if (this.reducedMotion) return
     const glow = this.glows.find((g) => g.peg === peg)
     if (glow) {
       glow.start = now
@@ -216,7 +222,7 @@ export class BoardRenderer {
    */
   floatText (bucket, text, now, { big = false } = {}) {
     const board = this.board
-    if (!board) return
+    if (!board || this.reducedMotion) return
     const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
     this.floaters.push({ text, x, y: board.bucketLineY - 10 * unitOf(board), start: now, big, color: this._colors[bucket] ?? '#fff' })
     this.effects.floaters++
@@ -227,7 +233,7 @@ export class BoardRenderer {
   /** A big win: sparks burst from the bucket and the board glows in its colour. @param {number} bucket @param {number} now */
   celebrate (bucket, now) {
     const board = this.board
-    if (!board) return
+    if (!board || this.reducedMotion) return
     const u = unitOf(board)
     const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
     const y = board.bucketLineY
@@ -277,7 +283,7 @@ export class BoardRenderer {
     // Trails first, so no trail crosses a ball.
     ctx.lineCap = 'round'
     for (const pose of poses) {
-      if (!pose.trajectory || pose.alpha < 1) continue
+      if (this.reducedMotion || !pose.trajectory || pose.alpha < 1) continue
       const t = pose.trajectory
       const newest = Math.floor(pose.age)
       if (newest < 1) continue
@@ -287,6 +293,7 @@ export class BoardRenderer {
       ctx.moveTo(pose.x, pose.y)
       for (let i = newest; i >= Math.max(0, newest - TRAIL_TICKS); i--) ctx.lineTo(t[3 * i] + pose.ox, t[3 * i + 1] + pose.oy)
       ctx.stroke()
+      this.effects.trails++
     }
     for (const pose of poses) {
       ctx.globalAlpha = Math.max(0, Math.min(1, pose.alpha))

@@ -48,7 +48,7 @@ const session = new Session()
 const verifier = new DropVerifier()
 const renderer = new BoardRenderer(byId('board'), { maxHeight: boardMaxHeight })
 const history = new HistoryView(byId('history'),
-  (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: 'smooth' })),
+  (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: renderer.reducedMotion ? 'auto' : 'smooth' })),
   (dropId) => recall.open(dropId))
 const fairness = new FairnessPanel({ session, onRotated: () => loadHistory(), say })
 const recall = new RecallView({ session, verifier })

@@ -2,7 +2,7 @@
  * Issue #24's layout and look items, in Chromium against the real server:
  * a board that fills the desktop stage; bucket labels and key hints at
  * WCAG AA contrast (4.5:1) and readable sizes; floating payouts that never
- * cover the bucket labels.
+ * cover the bucket labels; prefers-reduced-motion honoured.
  */
 import { describe, it, expect } from 'vitest'
 import { waitInPage } from './helpers/browser.js'
@@ -108,5 +108,36 @@ describe('player page: layout and look', () => {
     }
     expect(page.problems).toEqual([])
     await page.context().close()
+  })
+
+  it('honours prefers-reduced-motion: no peg glows, pops, floating payouts, bursts, trails or chip animation', async () => {
+    const results = {}
+    for (const reducedMotion of ['no-preference', 'reduce']) {
+      const page = await openPlayer(chromium, server, { reducedMotion })
+      const playerId = await page.evaluate(() => window.__plinko.playerId)
+      const { serverSeed, nextNonce } = await activeServerSeed(server, playerId)
+      // The first drop a win of 2× or more (a floating payout, where motion is allowed); four more after it.
+      const win = await clientSeedFor({ serverSeed, nonce: nextNonce, rows: 16, risk: 'medium', wanted: (m) => m >= 2 })
+      await setClientSeed(page, win.clientSeed)
+      await page.fill('#bet', '1')
+      await page.fill('#auto-count', '5')
+      await page.click('#auto')
+      await waitInPage(page, 'five results shown', () => window.__plinko.auto?.finished && window.__plinko.session.drops === 5)
+      results[reducedMotion] = await page.evaluate(() => ({
+        effects: window.__plinko.effects,
+        chipAnimations: [...document.querySelectorAll('#recent li.chip')].map((li) => getComputedStyle(li).animationName)
+      }))
+      expect(page.problems).toEqual([])
+      await page.context().close()
+    }
+    const moving = results['no-preference']
+    expect(moving.effects.pegGlows).toBeGreaterThan(0)
+    expect(moving.effects.bucketPops).toBeGreaterThanOrEqual(1)
+    expect(moving.effects.floaters).toBeGreaterThanOrEqual(1)
+    expect(moving.effects.trails).toBeGreaterThan(0)
+    expect(moving.chipAnimations).toContain('chip-in')
+    const still = results.reduce
+    expect(still.effects).toMatchObject({ pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0, trails: 0 })
+    expect(still.chipAnimations.every((name) => name === 'none')).toBe(true)
   })
 })
