@@ -60,6 +60,8 @@ export class AutoBet {
      * @type {{ bet: number, payout: number, win: boolean, betBefore: number, betAfter: number, profit: number, whileRunning: boolean }[]}
      */
     this.log = []
+    /** The page has announced the run's end (its final result). */
+    this.announced = false
   }
 
   /** Credits won minus credits wagered by this run's settled drops. */

@@ -20,6 +20,7 @@ import { LiveFeed, BIG_WIN } from './live-feed.js'
 import { ResultsStrip } from './results-strip.js'
 import { RecallView } from './recall-view.js'
 import { SessionHistory } from './session-history.js'
+import { Announcer } from './announcer.js'
 
 /**
  * The player's page: connects with the guest session, joins the chosen
@@ -57,6 +58,7 @@ const stats = new SessionStats({ wagered: byId('stat-wagered'), profit: byId('st
 const feed = new LiveFeed(byId('feed'))
 const recent = new ResultsStrip(byId('recent'))
 const sessionHistory = new SessionHistory(session)
+const announcer = new Announcer(byId('announcer'))
 const snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 }
 
 const state = {
@@ -238,6 +240,7 @@ function reveal (settled, live) {
   if (state.revealed.has(settled.dropId) || !state.ownDrops.has(settled.dropId)) return
   state.settledUnseen.delete(settled.dropId)
   showResult(settled, state.view?.drops.get(settled.dropId)?.engineVersion, true)
+  announcer.result(settled)
   if (!live || settled.room !== state.joinedRoom) return
   const now = performance.now()
   if (settled.multiplier >= FLOAT_WIN) renderer.floatText(settled.bucket, `+${formatAmount(settled.payout)}`, now, { big: settled.multiplier >= BIG_WIN })
@@ -514,6 +517,10 @@ function showAutoStatus () {
   box.hidden = false
   box.dataset.state = run.running ? 'running' : run.finished ? 'finished' : run.stopReason
   byId('auto-status-text').textContent = autoStatusText(run)
+  if (run.finished && !run.announced) {
+    run.announced = true
+    announcer.say(autoStatusText(run))
+  }
   const resumable = run.stopReason === 'disconnected' && run.remaining > 0
   const resume = byId('auto-resume')
   resume.hidden = !resumable
@@ -807,6 +814,8 @@ window.__plinko = {
   get feed () { return feed.entries.map((e) => ({ ...e })) },
   get players () { return state.players },
   get session () { return stats.summary },
+  /** what the live region said, latest last */
+  get announcements () { return announcer.said.slice() },
   get auto () {
     const run = state.autoRun
     return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, inFlight: run.inFlight, finished: run.finished, stoppedAt: run.stoppedAt && { ...run.stoppedAt }, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null

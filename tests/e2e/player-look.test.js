@@ -2,7 +2,8 @@
  * Issue #24's layout and look items, in Chromium against the real server:
  * a board that fills the desktop stage; bucket labels and key hints at
  * WCAG AA contrast (4.5:1) and readable sizes; floating payouts that never
- * cover the bucket labels; prefers-reduced-motion honoured.
+ * cover the bucket labels; prefers-reduced-motion honoured; connection
+ * figures behind a toggle; results and auto-bet's end announced politely.
  */
 import { describe, it, expect } from 'vitest'
 import { waitInPage } from './helpers/browser.js'
@@ -139,5 +140,42 @@ describe('player page: layout and look', () => {
     const still = results.reduce
     expect(still.effects).toMatchObject({ pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0, trails: 0 })
     expect(still.chipAnimations.every((name) => name === 'none')).toBe(true)
+  })
+
+  it('keeps the connection figures behind a toggle in the footer', async () => {
+    const page = await openPlayer(chromium, server)
+    await waitInPage(page, 'the footer figures', () => /rtt \d+ ms/.test(document.querySelector('#footer-stats').textContent))
+    const visible = () => page.evaluate(() => document.querySelector('footer').innerText)
+    expect(await visible()).not.toMatch(/rtt|buffer|snapshot|jitter/)
+    expect(await visible()).toContain('Operator audit')
+    await page.click('#connection-details summary')
+    expect(await visible()).toMatch(/rtt \d+ ms · buffer \d+ ms/)
+    expect(await visible()).toMatch(/snapshot positions checked \d+/)
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('announces each of the player\'s results and auto-bet\'s end in a polite live region', async () => {
+    const page = await openPlayer(chromium, server)
+    const region = await page.evaluate(() => { const r = document.querySelector('#announcer'); return { live: r.getAttribute('aria-live'), atomic: r.getAttribute('aria-atomic') } })
+    expect(region).toEqual({ live: 'polite', atomic: 'true' })
+    await page.fill('#bet', '2')
+    await page.click('#drop')
+    await waitInPage(page, 'the result shown', () => window.__plinko.session.drops === 1)
+    const [drop] = await page.evaluate(() => window.__plinko.history)
+    const said = await page.evaluate(() => window.__plinko.announcements)
+    expect(said).toHaveLength(1)
+    expect(said[0]).toMatch(new RegExp(`^Drop ${drop.dropId}: [\\d.]+×, paid [\\d.,]+ on a bet of 2 `))
+    expect(await page.textContent('#announcer')).toBe(said[0])
+
+    await page.fill('#auto-count', '3')
+    await page.click('#auto')
+    await waitInPage(page, 'the run to finish', () => window.__plinko.auto?.finished && window.__plinko.session.drops === 4)
+    await waitInPage(page, 'its end announced', () => window.__plinko.announcements.some((a) => a.includes('Final result')))
+    const all = await page.evaluate(() => window.__plinko.announcements)
+    expect(all.filter((a) => a.startsWith('Drop '))).toHaveLength(4)
+    expect(all.filter((a) => a.includes('Final result'))).toEqual([await page.textContent('#auto-status-text')])
+    expect(page.problems).toEqual([])
+    await page.context().close()
   })
 })
