@@ -3,6 +3,7 @@ import { byId, el, fill, exactAmount, exactMultiplier, formatLocalTime } from '.
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
+import { shareLink } from './share-link.js'
 
 /**
  * Game recall: any of the player's past drops, fetched from the ledger
@@ -36,6 +37,7 @@ export class RecallView {
     byId('recall-speed').addEventListener('change', (event) => this.player.setSpeed(Number(event.target.value)))
     byId('recall-scrub').addEventListener('input', (event) => { this.player.pause(); this.player.seek(Number(event.target.value)) })
     this.dialog.addEventListener('close', () => this.player.pause())
+    byId('recall-share').addEventListener('click', () => this.share())
   }
 
   get isOpen () {
@@ -53,6 +55,8 @@ export class RecallView {
     fill(byId('recall-data'))
     byId('recall-verdict').textContent = 'Loading…'
     byId('recall-verdict').className = 'verdict'
+    byId('recall-share').hidden = true
+    byId('recall-share-link').hidden = true
     if (!this.dialog.open) this.dialog.showModal()
     let record
     try {
@@ -72,6 +76,7 @@ export class RecallView {
     const chain = record.serverSeed ? await checkFairness(record, record) : null
     this.current = { dropId, bucket: outcome.bucket, ticks: outcome.ticks, stateHash: outcome.stateHash, matches, chain: chain ? chain.ok : null, record }
     this._showData(record, outcome, matches, chain)
+    byId('recall-share').hidden = !settled
     this.player.load(board, outcome.trajectory, outcome.bucket)
     this.player.play()
     return this.current
@@ -102,6 +107,24 @@ export class RecallView {
       ...row('Drop seed', record.dropSeed),
       ...row('Played', formatLocalTime(record.createdAt), 'recall-played'),
       ...row('Played (UTC, as recorded)', record.createdAt, 'recall-played-utc'))
+  }
+
+  /** A link anyone can open to watch this drop and verify it (/share/:id/:token), shown and copied. */
+  async share () {
+    const record = this.current?.record
+    if (!record) return
+    const link = await shareLink(record)
+    const field = byId('recall-share-link')
+    field.value = link
+    field.hidden = false
+    field.select()
+    try {
+      await navigator.clipboard.writeText(link)
+      byId('recall-share').textContent = 'Link copied'
+    } catch {
+      byId('recall-share').textContent = 'Share link'
+    }
+    this.current.shareLink = link
   }
 
   _showState (p) {

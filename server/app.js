@@ -12,6 +12,7 @@ import apiDocs from './routes/api-docs.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
+import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
@@ -135,6 +136,7 @@ export async function buildApp (config, options = {}) {
   await app.register(sessionRoutes, { arena })
   await app.register(seedRoutes, { arena })
   await app.register(dropRoutes, { arena })
+  await app.register(shareRoutes, { arena })
   await app.register(roomRoutes, { arena })
   await app.register(healthRoutes, { arena })
   await app.register(realtimeRoutes, { arena })
