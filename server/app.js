@@ -16,6 +16,7 @@ import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
+import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
 import auditRoutes from './routes/audit.js'
@@ -154,6 +155,7 @@ export async function buildApp (config, options = {}) {
   await app.register(sessionRoutes, { config, store, accounts, authGuard })
   await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
   await app.register(dropRoutes, { store, authGuard })
+  await app.register(shareRoutes, { store })
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
