@@ -4,7 +4,8 @@
  * page's whole notion of "now" in the room.
  *
  * Every message that names a room tick (`joined`, a drop-events frame:
- * a batch of other players' drops or a desync check alone) is an
+ * a batch of other players' drops or a desync check alone, and the `pong`
+ * of every heartbeat, seeds-delivery.js applyPong) is an
  * observation for the tick model (tick-model.js: fitted to the earliest
  * arrivals, which were still one way old): the room's tick now is the
  * model's plus half the socket's round trip.

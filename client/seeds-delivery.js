@@ -13,6 +13,7 @@
  */
 import { decodeDropEvents } from '/protocol/drop-events-codec.js'
 import { apiRequest } from './api.js'
+import { RoomClock } from './room-clock.js'
 
 export const DELIVERY_SEEDS = 'seeds'
 export const DELIVERY_SNAPSHOTS = 'snapshots'
@@ -43,6 +44,23 @@ export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
   // The batch may name drops the page has (its own `dropped`, `joined.balls`).
   for (const event of batch.events) if (!view.has(event.dropId)) add(event)
   return { ...view.check(batch.tick, batch.hash), events: batch.events.length }
+}
+
+/**
+ * A `pong` on a seeds socket: in a room it names the room's tick as the
+ * server answered (server/realtime/connection.js), one more sample for the
+ * room clock, which otherwise hears a tick only from `joined` and the
+ * drop-events frames (none in a quiet room). A pong of another room (sent
+ * before a join was answered) or without a tick changes nothing.
+ * @param {{ room?: string, tick?: number }} pong @param {number} receivedAt ms
+ * @param {{ room: string | null, clock: { observe: (tick: number, now: number) => void } | null }} joined
+ *   the socket's room and its clock (a RoomClock: a snapshots room's timeline is fitted to its snapshots only)
+ * @returns {boolean} whether the clock took it
+ */
+export function applyPong (pong, receivedAt, { room, clock }) {
+  if (!(clock instanceof RoomClock) || room === null || pong.room !== room || !Number.isInteger(pong.tick)) return false
+  clock.observe(pong.tick, receivedAt)
+  return true
 }
 
 /**

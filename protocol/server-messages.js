@@ -32,9 +32,15 @@ export function leftMessage (room) {
   return { type: 'left', room }
 }
 
-/** @param {number} serverTime epoch ms */
-export function pongMessage (serverTime) {
-  return { type: 'pong', serverTime }
+/**
+ * The reply to `ping`. A socket in a room also gets the room's tick as it
+ * answers: one more sample for the page's room clock, in a room where
+ * nothing else names a tick for a while.
+ * @param {number} serverTime epoch ms
+ * @param {{ id: string, tick: number } | null} [room] the socket's room
+ */
+export function pongMessage (serverTime, room = null) {
+  return room ? { type: 'pong', serverTime, room: room.id, tick: room.tick } : { type: 'pong', serverTime }
 }
 
 /**

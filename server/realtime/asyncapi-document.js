@@ -99,8 +99,13 @@ export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
     payload: object({ type: { const: 'left' }, room: string }, ['type', 'room'], { ref })
   },
   pong: {
-    summary: 'Reply to `ping`',
-    payload: object({ type: { const: 'pong' }, serverTime: { type: 'integer', description: 'the server\'s clock, epoch ms' } }, ['type', 'serverTime'], { ref })
+    summary: 'Reply to `ping`; a socket in a room also gets the room and its tick as the reply is sent (a sample for the page\'s room clock when nothing else names a tick)',
+    payload: object({
+      type: { const: 'pong' },
+      serverTime: { type: 'integer', description: 'the server\'s clock, epoch ms' },
+      room: { type: 'string', description: 'the socket\'s room (only when it is in one)' },
+      tick: { type: 'integer', minimum: 0, description: 'that room\'s tick when the reply was sent (only with `room`)' }
+    }, ['type', 'serverTime'], { ref })
   },
   dropped: {
     summary: 'A drop was recorded (its bet debited): to the owner at once, to snapshots-mode sockets in the room with its next snapshot (seeds-mode sockets get other players\' drops in drop-events frames)',

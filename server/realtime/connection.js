@@ -154,7 +154,7 @@ export class Connection {
         arena.drop(this, message)
         break
       case 'ping':
-        this.sendJson(withRef(pongMessage(Date.now()), message.ref))
+        this.sendJson(withRef(pongMessage(Date.now(), this.room), message.ref))
         break
     }
   }

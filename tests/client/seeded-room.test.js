@@ -11,7 +11,8 @@ import { describe, it, expect } from 'vitest'
 import { createBoard, simulateDrop, DropSimulator } from '../../engine/index.js'
 import { FlightHasher, encodeDropEvents } from '../../protocol/drop-events-codec.js'
 import { encodeSnapshot } from '../../protocol/snapshot-codec.js'
-import { applyDropEvents, pageDelivery } from '../../client/seeds-delivery.js'
+import { applyDropEvents, applyPong, pageDelivery } from '../../client/seeds-delivery.js'
+import { SnapshotTimeline } from '../../client/snapshot-timeline.js'
 import { SeededRoom } from '../../client/seeded-room.js'
 import { RoomClock, SETTLE_MARGIN_MS } from '../../client/room-clock.js'
 import { DropVerifier } from '../../client/drop-verifier.js'
@@ -140,6 +141,27 @@ describe('a drop-events frame on the page', () => {
     expect(pageDelivery('')).toBe('seeds')
     expect(pageDelivery('?delivery=snapshots')).toBe('snapshots')
     expect(pageDelivery('?delivery=other')).toBe('seeds')
+  })
+})
+
+describe('pong as a room clock sample', () => {
+  it("keeps a quiet room's clock on the room's tick from the heartbeats' pongs alone", () => {
+    const clock = new RoomClock({ tickRate: 60 })
+    const joined = { room: '12-medium', clock }
+    // A room at 60 ticks a second, answering a ping every 1 s; 40 ms one way, some arrivals later.
+    for (let i = 0; i < 12; i++) {
+      const sentAt = 1000 * i
+      expect(applyPong({ type: 'pong', serverTime: 0, room: '12-medium', tick: 500 + 60 * i }, sentAt + 40 + (i % 3) * 15, joined)).toBe(true)
+    }
+    expect(clock.stats.observations).toBe(12)
+    // The model's tick at a later arrival time: the room's tick then, less one way (40 ms = 2.4 ticks).
+    expect(clock.estimateAt(12_040) - (500 + 60 * 12)).toBeCloseTo(0, 0)
+    // Another room's pong (before a join was answered), one without a tick, or a snapshots room's timeline: not taken.
+    expect(applyPong({ type: 'pong', serverTime: 0, room: '14-high', tick: 5 }, 12_100, joined)).toBe(false)
+    expect(applyPong({ type: 'pong', serverTime: 0 }, 12_100, joined)).toBe(false)
+    expect(applyPong({ type: 'pong', serverTime: 0, room: '12-medium', tick: 5 }, 12_100, { room: null, clock })).toBe(false)
+    expect(applyPong({ type: 'pong', serverTime: 0, room: '12-medium', tick: 1300 }, 12_100, { room: '12-medium', clock: new SnapshotTimeline({ tickRate: 60, snapshotEvery: 3 }) })).toBe(false)
+    expect(clock.stats.observations).toBe(12)
   })
 })
 
