@@ -89,6 +89,8 @@ export class BoardRenderer {
     /** @type {string[]} the label colour on each bucket (black or white: the one with more contrast) */
     this._textColors = []
     this.frames = 0
+    /** Ball and glow sprites at the current size (made on the first frame after a resize). */
+    this._sprites = null
     // Resizing the canvas resizes its container: do it on the next frame,
     // outside the observer's callback, so the observer never loops.
     this._resizeQueued = false
@@ -170,6 +172,7 @@ export class BoardRenderer {
     this.layer.width = this.canvas.width
     this.layer.height = this.canvas.height
     this._drawStatic()
+    this._sprites = null
     this.needsDraw = true
     this.onResize()
   }
@@ -248,7 +251,12 @@ export class BoardRenderer {
   }
 
   /**
-   * One frame.
+   * One frame: the static layer, then the effects and the balls. Balls and
+   * peg glows are sprites drawn once per size (_makeSprites), not a
+   * radial gradient and an arc per ball per frame: in software rendering
+   * (no GPU) a gradient fill is what costs. (Restoring only the parts the
+   * last frame drew on, from the layer, measured slower than one copy of
+   * the whole layer: a copy per ball costs more than the pixels saved.)
    * @param {import('./room-view.js').BallPose[]} poses
    * @param {number} now ms
    * @param {{ trail?: { trajectory: Float64Array, upto: number } }} [extra] a path to draw behind the balls (replays)
@@ -258,18 +266,19 @@ export class BoardRenderer {
     const board = this.board
     if (!board || this.canvas.width === 0) return
     this.frames++
+    const s = this.scale * this.ratio
+    const u = unitOf(board)
+    const trail = extra.trail
+    this._sprites ??= this._makeSprites()
     this.needsDraw = false
     ctx.setTransform(1, 0, 0, 1, 0, 0)
     ctx.drawImage(this.layer, 0, 0)
-    const s = this.scale * this.ratio
-    const u = unitOf(board)
     ctx.setTransform(s, 0, 0, s, 0, 0)
 
     this._drawBursts(ctx, now, u)
-    this._drawGlows(ctx, now, u)
+    this._drawGlows(ctx, now, u, s)
     this._drawFlashes(ctx, now, u, s)
 
-    const trail = extra.trail
     if (trail && trail.upto > 0) {
       ctx.strokeStyle = 'rgba(255, 196, 0, 0.55)'
       ctx.lineWidth = 1.5 * u
@@ -280,45 +289,24 @@ export class BoardRenderer {
     }
 
     const r = board.ballRadius
-    // Trails first, so no trail crosses a ball.
-    ctx.lineCap = 'round'
-    for (const pose of poses) {
-      if (this.reducedMotion || !pose.trajectory || pose.alpha < 1) continue
-      const t = pose.trajectory
-      const newest = Math.floor(pose.age)
-      if (newest < 1) continue
-      ctx.strokeStyle = pose.mine ? 'rgba(255, 110, 150, 0.30)' : 'rgba(150, 170, 230, 0.18)'
-      ctx.lineWidth = r * (pose.mine ? 1.1 : 0.8)
-      ctx.beginPath()
-      ctx.moveTo(pose.x, pose.y)
-      for (let i = newest; i >= Math.max(0, newest - TRAIL_TICKS); i--) ctx.lineTo(t[3 * i] + pose.ox, t[3 * i + 1] + pose.oy)
-      ctx.stroke()
-      this.effects.trails++
+    // Trails first, so no trail crosses a ball: the others', then the player's own on top.
+    if (!this.reducedMotion) {
+      ctx.lineCap = 'round'
+      this._drawTrails(ctx, poses, false, 'rgba(150, 170, 230, 0.18)', r * 0.8)
+      this._drawTrails(ctx, poses, true, 'rgba(255, 110, 150, 0.30)', r * 1.1)
     }
+    const sprites = this._sprites
+    ctx.strokeStyle = 'rgba(30, 20, 60, 0.55)'
+    ctx.lineWidth = 1.4 * u
     for (const pose of poses) {
       ctx.globalAlpha = Math.max(0, Math.min(1, pose.alpha))
-      if (pose.mine) {
-        // Own balls: a halo, and warm colours.
-        ctx.fillStyle = 'rgba(255, 90, 138, 0.28)'
-        ctx.beginPath()
-        ctx.arc(pose.x, pose.y, r * 1.75, 0, Math.PI * 2)
-        ctx.fill()
-      }
-      const gradient = ctx.createRadialGradient(pose.x - r * 0.35, pose.y - r * 0.35, r * 0.15, pose.x, pose.y, r)
-      if (pose.mine) {
-        gradient.addColorStop(0, '#fff3b0')
-        gradient.addColorStop(1, '#ff5a8a')
-      } else {
-        gradient.addColorStop(0, '#e9eeff')
-        gradient.addColorStop(1, '#6f83b9')
-      }
-      ctx.fillStyle = gradient
-      ctx.beginPath()
-      ctx.arc(pose.x, pose.y, pose.mine ? r : r * 0.9, 0, Math.PI * 2)
-      ctx.fill()
+      // Own balls: a halo, and warm colours; the others' cool.
+      const sprite = pose.mine ? sprites.mine : sprites.other
+      const half = sprite.width / 2
+      ctx.setTransform(1, 0, 0, 1, 0, 0)
+      ctx.drawImage(sprite, Math.round(pose.x * s - half), Math.round(pose.y * s - half))
+      ctx.setTransform(s, 0, 0, s, 0, 0)
       // A mark on the ball shows its spin.
-      ctx.strokeStyle = 'rgba(30, 20, 60, 0.55)'
-      ctx.lineWidth = 1.4 * u
       ctx.beginPath()
       ctx.moveTo(pose.x, pose.y)
       ctx.lineTo(pose.x + Math.cos(pose.angle) * r * 0.85, pose.y + Math.sin(pose.angle) * r * 0.85)
@@ -331,22 +319,98 @@ export class BoardRenderer {
     ctx.globalAlpha = 1
   }
 
-  _drawGlows (ctx, now, u) {
+  /**
+   * The trails of the balls in flight that are the player's own (`mine`)
+   * or not, as one path stroked once: a stroke per trail cost more than
+   * everything else in a frame under software rendering; where two trails
+   * of a kind cross, they no longer darken each other.
+   */
+  _drawTrails (ctx, poses, mine, color, width) {
+    let drawn = 0
+    ctx.beginPath()
+    for (const pose of poses) {
+      if (pose.mine !== mine || !pose.trajectory || pose.alpha < 1) continue
+      const t = pose.trajectory
+      const newest = Math.floor(pose.age)
+      if (newest < 1) continue
+      ctx.moveTo(pose.x, pose.y)
+      for (let i = newest; i >= Math.max(0, newest - TRAIL_TICKS); i--) ctx.lineTo(t[3 * i] + pose.ox, t[3 * i + 1] + pose.oy)
+      drawn++
+    }
+    if (drawn === 0) return
+    ctx.strokeStyle = color
+    ctx.lineWidth = width
+    ctx.stroke()
+    this.effects.trails += drawn
+  }
+
+  /**
+   * The balls and the peg glows drawn once at this size (device px): an
+   * own ball with its halo, another player's, and a glow of each kind at
+   * its largest (drawn smaller as it grows, fainter as it fades).
+   */
+  _makeSprites () {
     const board = this.board
+    const s = this.scale * this.ratio
+    const r = board.ballRadius
+    const sprite = (reach, paint) => {
+      const canvas = document.createElement('canvas')
+      const size = Math.ceil(2 * reach * s) + 4
+      canvas.width = size
+      canvas.height = size
+      const ctx = canvas.getContext('2d')
+      ctx.setTransform(s, 0, 0, s, size / 2, size / 2)
+      paint(ctx)
+      return canvas
+    }
+    const ball = (ctx, radius, inner, outer) => {
+      const gradient = ctx.createRadialGradient(-r * 0.35, -r * 0.35, r * 0.15, 0, 0, r)
+      gradient.addColorStop(0, inner)
+      gradient.addColorStop(1, outer)
+      ctx.fillStyle = gradient
+      ctx.beginPath()
+      ctx.arc(0, 0, radius, 0, Math.PI * 2)
+      ctx.fill()
+    }
+    const glowReach = board.pegRadius + 8 * unitOf(board)
+    const glow = (color) => sprite(glowReach, (ctx) => {
+      const gradient = ctx.createRadialGradient(0, 0, board.pegRadius * 0.5, 0, 0, glowReach)
+      gradient.addColorStop(0, color)
+      gradient.addColorStop(1, 'rgba(255, 225, 120, 0)')
+      ctx.fillStyle = gradient
+      ctx.beginPath()
+      ctx.arc(0, 0, glowReach, 0, Math.PI * 2)
+      ctx.fill()
+    })
+    return {
+      mine: sprite(r * 1.75, (ctx) => {
+        ctx.fillStyle = 'rgba(255, 90, 138, 0.28)'
+        ctx.beginPath()
+        ctx.arc(0, 0, r * 1.75, 0, Math.PI * 2)
+        ctx.fill()
+        ball(ctx, r, '#fff3b0', '#ff5a8a')
+      }),
+      other: sprite(r, (ctx) => ball(ctx, r * 0.9, '#e9eeff', '#6f83b9')),
+      glowMine: glow('rgba(255, 225, 120, 0.95)'),
+      glowOther: glow('rgba(180, 205, 255, 0.7)'),
+      glowReach
+    }
+  }
+
+  _drawGlows (ctx, now, u, s) {
+    const board = this.board
+    const sprites = this._sprites
     this.glows = this.glows.filter((g) => now - g.start < GLOW_MS)
     for (const g of this.glows) {
       const peg = board.pegs[g.peg]
       if (!peg) continue
       const t = (now - g.start) / GLOW_MS
       const radius = board.pegRadius + (3 + 5 * t) * u
-      const glow = ctx.createRadialGradient(peg.x, peg.y, board.pegRadius * 0.5, peg.x, peg.y, radius)
-      glow.addColorStop(0, g.mine ? 'rgba(255, 225, 120, 0.95)' : 'rgba(180, 205, 255, 0.7)')
-      glow.addColorStop(1, 'rgba(255, 225, 120, 0)')
+      const sprite = g.mine ? sprites.glowMine : sprites.glowOther
+      // Half the sprite, in board px, scaled from its gradient's edge (glowReach) to this radius.
+      const drawn = sprite.width / (2 * s) * radius / sprites.glowReach
       ctx.globalAlpha = 1 - t
-      ctx.fillStyle = glow
-      ctx.beginPath()
-      ctx.arc(peg.x, peg.y, radius, 0, Math.PI * 2)
-      ctx.fill()
+      ctx.drawImage(sprite, peg.x - drawn, peg.y - drawn, 2 * drawn, 2 * drawn)
       ctx.fillStyle = '#ffffff'
       ctx.beginPath()
       ctx.arc(peg.x, peg.y, board.pegRadius * (1 + 0.35 * (1 - t)), 0, Math.PI * 2)
