@@ -7,7 +7,8 @@ import { dropList, dropRecord, errors } from './schemas.js'
  * `dropped` and `settled` (the allow-list below is the response schema, so
  * nothing else can leak; no server seed, even a revealed one).
  */
-const PUBLIC_DROP_FIELDS = ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedHash', 'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'status', 'bucket', 'multiplier', 'payout', 'payoutRule', 'ticks', 'stateHash']
+/** What a drop's room was told, and its server seed once revealed (null before): all anyone needs to verify it. */
+const PUBLIC_DROP_FIELDS = ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedHash', 'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'status', 'bucket', 'multiplier', 'payout', 'payoutRule', 'ticks', 'stateHash', 'serverSeed']
 const publicDropRecord = { type: 'object', properties: Object.fromEntries(PUBLIC_DROP_FIELDS.map((field) => [field, dropRecord.properties[field]])) }
 
 /**

@@ -1,4 +1,5 @@
 import { describe, it, expect, beforeAll } from 'vitest'
+import { createHash } from 'node:crypto'
 import { createBoard, DropSimulator, ENGINE_VERSIONS } from '../../engine/index.js'
 import { FlightHasher } from '../../protocol/drop-events-codec.js'
 import { useServerOn, eventually } from './helpers/server.js'
@@ -164,8 +165,8 @@ describe('seeds delivery', () => {
     await client.close()
   })
 
-  it("serves any drop's public facts, and nothing its room was not told", async () => {
-    const { client } = await server.player('11-medium', { delivery: 'seeds' })
+  it("serves any drop's public facts: what its room was told, and its server seed once revealed", async () => {
+    const { client, session } = await server.player('11-medium', { delivery: 'seeds' })
     client.send({ type: 'drop', bet: 3, ref: 'p' })
     const dropped = await client.take((m) => m.ref === 'p')
     const settled = await client.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
@@ -190,8 +191,15 @@ describe('seeds delivery', () => {
       payout: settled.payout,
       payoutRule: 2,
       ticks: settled.ticks,
-      stateHash: settled.stateHash
+      stateHash: settled.stateHash,
+      serverSeed: null
     })
+    // Once the player rotates that seed it is public: the record then carries it, and it hashes to the commitment.
+    const rotated = await server.api('POST', '/api/seeds/rotate', { token: session.token })
+    expect(rotated.status).toBe(200)
+    const revealed = (await server.api('GET', `/api/public/drops/${dropped.dropId}`)).body
+    expect(revealed.serverSeed).toBe(rotated.body.previousServerSeed)
+    expect(createHash('sha256').update(revealed.serverSeed).digest('hex')).toBe(dropped.serverSeedHash)
     expect((await server.api('GET', '/api/public/drops/999999')).body.code).toBe('E_NOT_FOUND')
     expect((await server.api('GET', '/api/public/drops/abc')).status).toBe(400)
     await client.close()
