@@ -1,0 +1,230 @@
+#!/usr/bin/env node
+/**
+ * The drop path's CPU, part by part: `node bench/drop-path.js [--drops N] [--rooms R] [--per-room P] [--delivery seeds|snapshots]`.
+ *
+ * A fixed workload through the real server code, in-process: R rooms of P
+ * players (real Connection objects over stand-in sockets that count bytes),
+ * each player dropping once every 2 s of room time (the reference load),
+ * the arena's tick run by hand, and after each tick the group commit to the
+ * real SQLite store (WAL, synchronous=FULL, its writer thread) awaited, so
+ * every tick is one transaction whatever the machine's load. It stops after
+ * N drops have been accepted and their balls have landed and been settled.
+ *
+ * Measured in CPU time, not wall-clock time (the machine is shared): the
+ * main thread's own clock (process.threadCpuUsage) around each phase, and
+ * every other thread's from /proc/self/task/. Printed per drop:
+ *   receive                a drop frame to a message: UTF-8, JSON, schema (timed alone on the same frames)
+ *   accept                 the rest of Connection._receive: limits, nonce, HMAC drop seed, reserve, release
+ *   physics                the rooms' steps (landings and their settlements included)
+ *   commit hand-over       the group commit's sync part: batch rows, posting them to the writer thread
+ *   apply + owner replies  once durable: balances, `dropped`/`settled` JSON to the owner, feeds told
+ *   room feeds             the tick after its steps: each room's seeds frames (or snapshots) encoded and
+ *                          handed to sockets, the tally, idle rooms
+ *   main thread, other     the rest of the main thread (microtasks, the writer's reply, GC, metrics)
+ *   other threads          SQLite writer thread, GC helpers
+ * Socket writes (ws framing and the kernel) are not in it: the sockets are
+ * stand-ins; the lean load test's profile has them.
+ */
+import fs from 'node:fs'
+import { withBenchLedger } from './temp-ledger.js'
+import { Arena } from '../server/arena.js'
+import { LocalCoordinator } from '../server/coordination/local-coordinator.js'
+import { createMetrics } from '../server/metrics.js'
+import { openStore } from '../server/store/open-store.js'
+import { createSession } from '../server/ledger/sessions.js'
+import { Connection } from '../server/realtime/connection.js'
+import { createMessageParser } from '../server/realtime/message-schemas.js'
+import { ROOM_IDS } from '../protocol/room-id.js'
+import { formatTable, fixed, int } from '../cli/text-table.js'
+
+const USAGE = 'usage: node bench/drop-path.js [--drops N (6000)] [--rooms R (100)] [--per-room P (15)] [--delivery seeds|snapshots (seeds)] [--json]'
+const DROP_EVERY_TICKS = 120
+const WARMUP_TICKS = 600
+
+const options = parseArgs(process.argv.slice(2))
+const silentLog = { info () {}, warn () {}, error (...a) { console.error(...a) }, debug () {}, child () { return silentLog } }
+
+/** A ws stand-in: what Connection touches, counting what it is sent. */
+class StandInSocket {
+  constructor () {
+    this.bufferedAmount = 0
+    this.bytes = 0
+    this.frames = 0
+  }
+
+  on () {}
+  send (data) {
+    this.bytes += data.length
+    this.frames++
+    if (typeof data === 'string' && data.startsWith('{"type":"error"')) throw new Error(`the server refused: ${data}`)
+  }
+  ping () {}
+  terminate () {}
+  close () {}
+  pause () {}
+}
+
+await withBenchLedger({ DROP_RATE: '1000', DROP_BURST: '1000', WS_HEARTBEAT_MS: '3600000' }, run)
+
+async function run (config) {
+  const store = await openStore(config.database)
+  const metrics = createMetrics({ defaultMetrics: false })
+  const coordinator = new LocalCoordinator({ store, log: silentLog })
+  const arena = new Arena({ config, store, coordinator, metrics, log: silentLog })
+  await arena.start()
+  const parseMessage = createMessageParser(config)
+
+  const players = []
+  for (let r = 0; r < options.rooms; r++) {
+    for (let p = 0; p < options.perRoom; p++) {
+      const session = await createSession(store, config)
+      const socket = new StandInSocket()
+      const connection = new Connection({ socket, arena, parseMessage, metrics, log: silentLog, softLimit: 1 << 20, hardLimit: 1 << 22 })
+      connection.authenticated(await arena.accounts.acquire(session.playerId))
+      await arena.join(connection, ROOM_IDS[r % ROOM_IDS.length], options.delivery)
+      players.push({ connection, socket, phase: players.length % DROP_EVERY_TICKS, refs: 0 })
+    }
+  }
+
+  // Each phase's main-thread CPU, charged by wrapping the real functions: a few clock reads per tick
+  // and per commit, none per socket (a read is a system call of its own).
+  const cpu = { receive: 0, physics: 0, handOver: 0, apply: 0, feeds: 0 }
+  const now = () => { const u = process.threadCpuUsage(); return u.user + u.system }
+  const lifecycle = arena.drops
+  const committed = lifecycle._committed.bind(lifecycle)
+  lifecycle._committed = (...args) => { const t = now(); committed(...args); cpu.apply += now() - t }
+  const ledger = arena.ledger
+  const commit = ledger._commit.bind(ledger)
+  // Its sync part (up to the store's promise); the continuation is `apply` (timed above) and the rest.
+  ledger._commit = (batch) => { const t = now(); const done = commit(batch); cpu.handOver += now() - t; return done }
+  // arena.tick: the rooms' steps, then ledger.flush() (only seals the batch: its commit runs after the
+  // tick, timed above), then every room's delivery, the tally, idle rooms.
+  const flush = ledger.flush.bind(ledger)
+  let tickStarted = 0
+  let flushed = 0
+  ledger.flush = () => { flushed = now(); cpu.physics += flushed - tickStarted; flush() }
+
+  let accepted = 0
+  let tick = 0
+  const step = async () => {
+    const receiveStarted = now()
+    for (const player of players) {
+      if (accepted >= options.drops || (tick + player.phase) % DROP_EVERY_TICKS !== 0) continue
+      player.connection._receive(Buffer.from(`{"type":"drop","bet":1,"ref":${++player.refs}}`), false)
+      accepted++
+    }
+    tickStarted = now()
+    cpu.receive += tickStarted - receiveStarted
+    arena.tick()
+    cpu.feeds += now() - flushed
+    tick++
+    await ledger.drain()
+  }
+
+  // Warm-up (WARMUP_TICKS, longer than a ball's flight): JIT, caches, the rooms' balls spread over their flight.
+  const target = options.drops
+  options.drops = Infinity
+  while (tick < WARMUP_TICKS) await step()
+  options.drops = target + accepted
+  for (const key in cpu) cpu[key] = 0
+  const settledBefore = await counterValue(metrics.settles)
+  const mainBefore = now()
+  const threadsBefore = otherThreadsCpu()
+  const processBefore = process.cpuUsage()
+  const bytesBefore = sumOf(players, (p) => p.socket.bytes)
+  const framesBefore = sumOf(players, (p) => p.socket.frames)
+  // Steady state: as many balls land in the window as are dropped, about.
+  while (accepted < options.drops) await step()
+  const main = now() - mainBefore
+  const threads = otherThreadsCpu() - threadsBefore
+  const processCpu = process.cpuUsage(processBefore)
+  const settled = (await counterValue(metrics.settles)) - settledBefore
+  const bytes = sumOf(players, (p) => p.socket.bytes) - bytesBefore
+  const frames = sumOf(players, (p) => p.socket.frames) - framesBefore
+  const spent = { ...cpu }
+  await arena.close()
+  await store.close()
+
+  const drops = target
+  // The receive loop's split: the parse and schema check alone, timed again on the same frames (a pure function).
+  const parse = parseTime(parseMessage, drops)
+  const parts = [
+    ['receive: frame to message (UTF-8, JSON, schema)', parse],
+    ['accept (limits, nonce, HMAC seed, reserve, release)', spent.receive - parse],
+    ['physics (room steps, landings)', spent.physics],
+    ['commit hand-over (rows, post to writer thread)', spent.handOver],
+    ['apply + owner replies (JSON) + feeds told', spent.apply],
+    ['room feeds (encode, hand to sockets), rest of tick', spent.feeds]
+  ]
+  const named = parts.reduce((total, [, micros]) => total + micros, 0)
+  parts.push(['main thread, other (microtasks, writer reply, GC)', main - named])
+  parts.push(['other threads (SQLite writer, GC helpers)', threads])
+  const total = main + threads
+  const figures = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
+  if (options.json) {
+    console.log(JSON.stringify({ drops, settled, ticks: tick, perDrop: figures, totalPerDrop: total / drops, processPerDrop: (processCpu.user + processCpu.system) / drops }))
+    return
+  }
+  console.log(`\nDrop path: ${int(drops)} drops (${int(settled)} settled), ${options.rooms} rooms × ${options.perRoom} players, delivery ${options.delivery}, SQLite WAL + synchronous=FULL, one transaction per tick\n`)
+  console.log(formatTable(
+    [{ title: 'part', align: 'left' }, { title: 'CPU µs per drop' }, { title: 'share' }],
+    [
+      ...parts.map(([name, micros]) => [name, fixed(micros / drops, 1), `${fixed(100 * micros / total, 0)}%`]),
+      ['in all (main thread + other threads)', fixed(total / drops, 1), '100%'],
+      ['process.cpuUsage, same window', fixed((processCpu.user + processCpu.system) / drops, 1), '']
+    ]
+  ))
+  console.log(`\n${fixed(frames / drops, 2)} frames and ${int(bytes / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
+}
+
+/** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */
+function parseTime (parseMessage, drops) {
+  const frames = Array.from({ length: drops }, (_, i) => Buffer.from(`{"type":"drop","bet":1,"ref":${i + 1}}`))
+  const started = process.threadCpuUsage()
+  for (const frame of frames) parseMessage(frame.toString('utf8'))
+  const spent = process.threadCpuUsage(started)
+  return spent.user + spent.system
+}
+
+/** CPU µs of every thread of this process but the main one, from /proc (Linux; 0 elsewhere). */
+function otherThreadsCpu () {
+  let ticks = 0
+  let dir
+  try { dir = fs.readdirSync('/proc/self/task') } catch { return 0 }
+  for (const tid of dir) {
+    if (Number(tid) === process.pid) continue
+    try {
+      const stat = fs.readFileSync(`/proc/self/task/${tid}/stat`, 'utf8')
+      const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ')
+      ticks += Number(fields[11]) + Number(fields[12])
+    } catch {}
+  }
+  return ticks * 1e6 / 100
+}
+
+async function counterValue (counter) {
+  const { values } = await counter.get()
+  return values.reduce((total, v) => total + v.value, 0)
+}
+
+function sumOf (items, value) {
+  let total = 0
+  for (const item of items) total += value(item)
+  return total
+}
+
+function parseArgs (args) {
+  const parsed = { drops: 6000, rooms: 100, perRoom: 15, delivery: 'seeds', json: false }
+  for (let i = 0; i < args.length; i++) {
+    const arg = args[i]
+    if (arg === '--help' || arg === '-h') { console.log(USAGE); process.exit(0) }
+    if (arg === '--json') { parsed.json = true; continue }
+    const key = { '--drops': 'drops', '--rooms': 'rooms', '--per-room': 'perRoom', '--delivery': 'delivery' }[arg]
+    const value = args[++i]
+    if (!key || value === undefined) { console.error(`bad argument ${arg}\n${USAGE}`); process.exit(2) }
+    parsed[key] = key === 'delivery' ? value : Number(value)
+    if (key !== 'delivery' && !(Number.isSafeInteger(parsed[key]) && parsed[key] > 0)) { console.error(`${arg} needs a positive integer\n${USAGE}`); process.exit(2) }
+  }
+  if (!['seeds', 'snapshots'].includes(parsed.delivery)) { console.error(`--delivery must be seeds or snapshots\n${USAGE}`); process.exit(2) }
+  return parsed
+}
