@@ -11,10 +11,12 @@
  * N drops have been accepted and their balls have landed and been settled.
  *
  * Measured in CPU time, not wall-clock time (the machine is shared): the
- * main thread's own clock (process.threadCpuUsage) around each phase, and
- * every other thread's from /proc/self/task/. Printed per drop:
+ * process's clock (process.cpuUsage, exact) around each phase, and each
+ * thread's own total over the window from /proc/self/task/TID/schedstat
+ * (exact to the ns). Printed per drop:
  *   receive                a drop frame to a message: UTF-8, JSON, schema (timed alone on the same frames)
- *   accept                 the rest of Connection._receive: limits, nonce, HMAC drop seed, reserve, release
+ *   accept                 the rest of Connection._receive: limits, nonce, HMAC drop seed, reserve
+ *   ball release           Room.release: the engine turns the seed into the ball's initial state
  *   physics                the rooms' steps (landings and their settlements included)
  *   commit hand-over       the group commit's sync part: batch rows, posting them to the writer thread
  *   apply + owner replies  once durable: balances, `dropped`/`settled` JSON to the owner, feeds told
@@ -88,9 +90,16 @@ async function run (config) {
 
   // Each phase's main-thread CPU, charged by wrapping the real functions: a few clock reads per tick
   // and per commit, none per socket (a read is a system call of its own).
-  const cpu = { receive: 0, physics: 0, handOver: 0, apply: 0, feeds: 0 }
-  const now = () => { const u = process.threadCpuUsage(); return u.user + u.system }
+  const cpu = { receive: 0, release: 0, physics: 0, handOver: 0, apply: 0, feeds: 0 }
+  // process.cpuUsage, not threadCpuUsage: on Linux a thread's own clock (RUSAGE_THREAD) only advances at
+  // scheduler ticks and context switches, so short phases read 0 or a whole tick. The process clock is exact;
+  // it includes other threads, which in this loop are idle but while a commit runs (after the hand-over).
+  const now = () => { const u = process.cpuUsage(); return u.user + u.system }
   const lifecycle = arena.drops
+  for (const room of arena.rooms.values()) {
+    const release = room.release.bind(room)
+    room.release = (drop) => { const t = now(); release(drop); cpu.release += now() - t }
+  }
   const committed = lifecycle._committed.bind(lifecycle)
   lifecycle._committed = (...args) => { const t = now(); committed(...args); cpu.apply += now() - t }
   const ledger = arena.ledger
@@ -128,14 +137,19 @@ async function run (config) {
   options.drops = target + accepted
   for (const key in cpu) cpu[key] = 0
   const settledBefore = await counterValue(metrics.settles)
-  const mainBefore = now()
+  const mainBefore = threadCpu(process.pid)
+  const mainSplitBefore = process.threadCpuUsage()
+  const windowStarted = process.hrtime.bigint() / 1000n
   const threadsBefore = otherThreadsCpu()
   const processBefore = process.cpuUsage()
   const bytesBefore = sumOf(players, (p) => p.socket.bytes)
   const framesBefore = sumOf(players, (p) => p.socket.frames)
   // Steady state: as many balls land in the window as are dropped, about.
   while (accepted < options.drops) await step()
-  const main = now() - mainBefore
+  const main = threadCpu(process.pid) - mainBefore
+  const mainSplit = process.threadCpuUsage(mainSplitBefore)
+  // The window on the monotonic clock, µs (a V8 CPU profile's startTime is on it): to cut a --cpu-prof to it.
+  const window = [Number(windowStarted), Number(process.hrtime.bigint() / 1000n)]
   const threads = otherThreadsCpu() - threadsBefore
   const processCpu = process.cpuUsage(processBefore)
   const settled = (await counterValue(metrics.settles)) - settledBefore
@@ -150,7 +164,8 @@ async function run (config) {
   const parse = parseTime(parseMessage, drops)
   const parts = [
     ['receive: frame to message (UTF-8, JSON, schema)', parse],
-    ['accept (limits, nonce, HMAC seed, reserve, release)', spent.receive - parse],
+    ['accept (limits, nonce, HMAC seed, reserve; ws stand-in)', spent.receive - parse - spent.release],
+    ['ball release (engine: seed to initial state)', spent.release],
     ['physics (room steps, landings)', spent.physics],
     ['commit hand-over (rows, post to writer thread)', spent.handOver],
     ['apply + owner replies (JSON) + feeds told', spent.apply],
@@ -162,7 +177,7 @@ async function run (config) {
   const total = main + threads
   const figures = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
   if (options.json) {
-    console.log(JSON.stringify({ drops, settled, ticks: tick, perDrop: figures, totalPerDrop: total / drops, processPerDrop: (processCpu.user + processCpu.system) / drops }))
+    console.log(JSON.stringify({ drops, settled, ticks: tick, window, perDrop: figures, totalPerDrop: total / drops, mainUserPerDrop: mainSplit.user / drops, mainSystemPerDrop: mainSplit.system / drops, processPerDrop: (processCpu.user + processCpu.system) / drops }))
     return
   }
   console.log(`\nDrop path: ${int(drops)} drops (${int(settled)} settled), ${options.rooms} rooms × ${options.perRoom} players, delivery ${options.delivery}, SQLite WAL + synchronous=FULL, one transaction per tick\n`)
@@ -171,7 +186,8 @@ async function run (config) {
     [
       ...parts.map(([name, micros]) => [name, fixed(micros / drops, 1), `${fixed(100 * micros / total, 0)}%`]),
       ['in all (main thread + other threads)', fixed(total / drops, 1), '100%'],
-      ['process.cpuUsage, same window', fixed((processCpu.user + processCpu.system) / drops, 1), '']
+      ['process.cpuUsage, same window', fixed((processCpu.user + processCpu.system) / drops, 1), ''],
+      ['main thread: user / kernel', `${fixed(mainSplit.user / drops, 1)} / ${fixed(mainSplit.system / drops, 1)}`, '']
     ]
   ))
   console.log(`\n${fixed(frames / drops, 2)} frames and ${int(bytes / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
@@ -180,26 +196,28 @@ async function run (config) {
 /** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */
 function parseTime (parseMessage, drops) {
   const frames = Array.from({ length: drops }, (_, i) => Buffer.from(`{"type":"drop","bet":1,"ref":${i + 1}}`))
-  const started = process.threadCpuUsage()
+  const started = process.cpuUsage()
   for (const frame of frames) parseMessage(frame.toString('utf8'))
-  const spent = process.threadCpuUsage(started)
+  const spent = process.cpuUsage(started)
   return spent.user + spent.system
 }
 
-/** CPU µs of every thread of this process but the main one, from /proc (Linux; 0 elsewhere). */
+/** CPU µs of one thread of this process, exact to the ns (/proc/self/task/TID/schedstat; Linux, else 0). */
+function threadCpu (tid) {
+  try {
+    return Number(fs.readFileSync(`/proc/self/task/${tid}/schedstat`, 'utf8').split(' ')[0]) / 1000
+  } catch {
+    return 0
+  }
+}
+
+/** CPU µs of every thread of this process but the main one. */
 function otherThreadsCpu () {
-  let ticks = 0
   let dir
   try { dir = fs.readdirSync('/proc/self/task') } catch { return 0 }
-  for (const tid of dir) {
-    if (Number(tid) === process.pid) continue
-    try {
-      const stat = fs.readFileSync(`/proc/self/task/${tid}/stat`, 'utf8')
-      const fields = stat.slice(stat.lastIndexOf(')') + 2).split(' ')
-      ticks += Number(fields[11]) + Number(fields[12])
-    } catch {}
-  }
-  return ticks * 1e6 / 100
+  let micros = 0
+  for (const tid of dir) if (Number(tid) !== process.pid) micros += threadCpu(tid)
+  return micros
 }
 
 async function counterValue (counter) {
