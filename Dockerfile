@@ -1,11 +1,11 @@
 # The Plinko Arena server. Built by docker-compose.yml (two or more replicas
 # behind nginx, with PostgreSQL and Redis); also runs alone:
 #   docker build -t plinko-arena . && docker run -p 8080:8080 plinko-arena
-FROM node:24-bookworm-slim
+FROM node:26-bookworm-slim
 ENV NODE_ENV=production
 WORKDIR /app
 COPY package.json package-lock.json ./
-# Production dependencies only; better-sqlite3 ships prebuilt binaries for linux x64/arm64.
+# Production dependencies only: nothing to compile (SQLite is node:sqlite).
 RUN npm ci --omit=dev && npm cache clean --force
 COPY engine ./engine
 COPY protocol ./protocol

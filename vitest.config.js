@@ -13,6 +13,8 @@ export default defineConfig({
   test: {
     include: ['tests/**/*.test.js'],
     exclude: ['tests/e2e/**', 'node_modules/**'],
+    // Stops at once, with one message, if PostgreSQL, Redis or nginx is missing.
+    globalSetup: ['tests/preflight.js'],
     testTimeout: 60_000,
     hookTimeout: 120_000,
     pool: 'forks'

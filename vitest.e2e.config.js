@@ -8,6 +8,8 @@ import { defineConfig } from 'vitest/config'
 export default defineConfig({
   test: {
     include: ['tests/e2e/**/*.test.js'],
+    // Stops at once, with one message, if Chromium, PostgreSQL or Redis is missing.
+    globalSetup: ['tests/e2e/helpers/preflight.js'],
     testTimeout: 240_000,
     hookTimeout: 360_000,
     pool: 'forks',

@@ -5,7 +5,9 @@ import { createBoard, simulateDrop, ENGINE_VERSION } from '/engine/index.js'
  * runs, under the engine version the drop was decided under: on `dropped`
  * the drop is simulated from its drop seed, and when its
  * `settled` (or its ledger record) arrives, bucket, ticks and the hash of
- * the ball's exact final state must all be equal.
+ * the ball's exact final state must all be equal. In seeds mode the drop
+ * is not simulated ahead: the ball drawn on the board is (seeded-room.js),
+ * and its landing fills in the outcome the settlement is compared with.
  */
 
 /**
@@ -13,8 +15,9 @@ import { createBoard, simulateDrop, ENGINE_VERSION } from '/engine/index.js'
  * @property {number} dropId @property {string} player @property {boolean} mine
  * @property {string} room @property {number} rows @property {string} risk @property {string} engineVersion
  * @property {string} dropSeed @property {number} startTick @property {number} slot
- * @property {number} bucket @property {number} ticks @property {string} stateHash  the local outcome
+ * @property {number | null} bucket @property {number | null} ticks @property {string | null} stateHash  the local outcome (null: not simulated to its landing yet)
  * @property {Float64Array | null} trajectory x, y, angle per tick from release (null: checked from a record, not shown)
+ * @property {number} [bet] whole credits, when announced
  */
 
 /**
@@ -64,10 +67,15 @@ export class DropVerifier {
    */
   simulate (announced, { rows, risk }, playerId) {
     const known = this.pending.get(announced.dropId)
-    if (known) return known
+    if (known && known.trajectory) return known
     const engineVersion = announced.engineVersion ?? ENGINE_VERSION
     const board = this.board(rows, risk, engineVersion)
     const outcome = simulateDrop(board, announced.dropSeed, { trajectory: true })
+    if (known) {
+      // Expected in seeds mode, now shown from snapshots (the room was switched): the whole path is needed at once.
+      Object.assign(known, { bucket: outcome.bucket, ticks: outcome.ticks, stateHash: outcome.stateHash, trajectory: outcome.trajectory })
+      return known
+    }
     /** @type {LocalDrop} */
     const local = {
       dropId: announced.dropId,
@@ -86,6 +94,42 @@ export class DropVerifier {
       trajectory: outcome.trajectory
     }
     if (!this.byId.has(local.dropId)) this.pending.set(local.dropId, local)
+    return local
+  }
+
+  /**
+   * An announced drop whose outcome the page's live simulation will give
+   * (seeds mode): the drop without its outcome, to be filled in by the
+   * simulation that draws it. Only the player's own drops are kept for
+   * verification: in seeds mode only their settlements reach the page
+   * (another player's is checked by the room's desync check).
+   * @param {{ dropId: number, player: string, room: string, dropSeed: string, engineVersion?: string, startTick: number, slot: number, bet?: number }} announced
+   * @param {{ rows: number, risk: string }} boardOf rows and risk of the drop's room
+   * @param {string | null} playerId the viewer
+   * @returns {LocalDrop}
+   */
+  expect (announced, { rows, risk }, playerId) {
+    const known = this.pending.get(announced.dropId)
+    if (known) return known
+    /** @type {LocalDrop} */
+    const local = {
+      dropId: announced.dropId,
+      player: announced.player,
+      mine: announced.player === playerId,
+      room: announced.room,
+      rows,
+      risk,
+      engineVersion: announced.engineVersion ?? ENGINE_VERSION,
+      dropSeed: announced.dropSeed,
+      startTick: announced.startTick,
+      slot: announced.slot,
+      bet: announced.bet,
+      bucket: null,
+      ticks: null,
+      stateHash: null,
+      trajectory: null
+    }
+    if (local.mine && !this.byId.has(local.dropId)) this.pending.set(local.dropId, local)
     return local
   }
 
@@ -137,6 +181,13 @@ export class DropVerifier {
     const local = this.pending.get(dropId)
     if (!local) return null
     this.pending.delete(dropId)
+    if (local.ticks === null) {
+      // Expected (seeds mode) but not simulated to its landing here (the room was left): simulate it now.
+      const outcome = simulateDrop(this.board(local.rows, local.risk, local.engineVersion), local.dropSeed)
+      local.bucket = outcome.bucket
+      local.ticks = outcome.ticks
+      local.stateHash = outcome.stateHash
+    }
     /** @type {Verification} */
     const verification = {
       dropId,

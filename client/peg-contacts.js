@@ -42,41 +42,78 @@ function gridOf (board) {
 }
 
 /**
+ * The same rule one tick at a time, for a ball simulated as it is drawn
+ * (seeds mode): at(tick, x, y) reports the contacts that start at that
+ * tick. Allocates nothing per tick (a ball touches a handful of pegs at once).
+ */
+export class PegContactTracker {
+  /** @param {import('/engine/board.js').Board} board */
+  constructor (board) {
+    this.board = board
+    this._grid = gridOf(board)
+    const reach = board.ballRadius + board.pegRadius + CONTACT_SLACK
+    this._reach2 = reach * reach
+    this._touching = new Int32Array(16)
+    this._touchingCount = 0
+    this._now = new Int32Array(16)
+  }
+
+  /** Forgets the pegs being touched (a new ball). */
+  reset () {
+    this._touchingCount = 0
+    return this
+  }
+
+  /**
+   * The ball's centre after tick `tick` is (x, y): pushes onto `out` a
+   * contact for each peg it touches now and did not after the tick before.
+   * @param {number} tick @param {number} x @param {number} y @param {PegContact[]} out
+   */
+  at (tick, x, y, out) {
+    const grid = this._grid
+    const pegs = this.board.pegs
+    const cx = Math.floor(x / grid.cell)
+    const cy = Math.floor(y / grid.cell)
+    let count = 0
+    for (let j = cy - 1; j <= cy + 1; j++) {
+      if (j < 0 || j >= grid.rows) continue
+      for (let i = cx - 1; i <= cx + 1; i++) {
+        if (i < 0 || i >= grid.cols) continue
+        const cell = grid.cells[j * grid.cols + i]
+        for (let c = 0; c < cell.length; c++) {
+          const peg = cell[c]
+          const p = pegs[peg]
+          const dx = p.x - x
+          const dy = p.y - y
+          if (dx * dx + dy * dy > this._reach2) continue
+          if (count < this._now.length) this._now[count++] = peg
+          if (!this._touches(peg)) out.push({ tick, peg, row: grid.rowOf[peg] })
+        }
+      }
+    }
+    const swap = this._touching
+    this._touching = this._now
+    this._now = swap
+    this._touchingCount = count
+  }
+
+  _touches (peg) {
+    for (let k = 0; k < this._touchingCount; k++) if (this._touching[k] === peg) return true
+    return false
+  }
+}
+
+/**
  * Every peg contact along a trajectory, in tick order.
  * @param {import('/engine/board.js').Board} board
  * @param {Float64Array} trajectory
  * @returns {PegContact[]}
  */
 export function pegContacts (board, trajectory) {
-  const grid = gridOf(board)
-  const reach = board.ballRadius + board.pegRadius + CONTACT_SLACK
-  const reach2 = reach * reach
-  const touching = new Set()
+  const tracker = new PegContactTracker(board)
   const contacts = []
   const ticks = trajectory.length / 3
-  for (let t = 0; t < ticks; t++) {
-    const x = trajectory[3 * t]
-    const y = trajectory[3 * t + 1]
-    const cx = Math.floor(x / grid.cell)
-    const cy = Math.floor(y / grid.cell)
-    const now = new Set()
-    for (let j = cy - 1; j <= cy + 1; j++) {
-      if (j < 0 || j >= grid.rows) continue
-      for (let i = cx - 1; i <= cx + 1; i++) {
-        if (i < 0 || i >= grid.cols) continue
-        for (const peg of grid.cells[j * grid.cols + i]) {
-          const p = board.pegs[peg]
-          const dx = p.x - x
-          const dy = p.y - y
-          if (dx * dx + dy * dy > reach2) continue
-          now.add(peg)
-          if (!touching.has(peg)) contacts.push({ tick: t, peg, row: grid.rowOf[peg] })
-        }
-      }
-    }
-    touching.clear()
-    for (const peg of now) touching.add(peg)
-  }
+  for (let t = 0; t < ticks; t++) tracker.at(t, trajectory[3 * t], trajectory[3 * t + 1], contacts)
   return contacts
 }
 

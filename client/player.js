@@ -19,6 +19,9 @@ import { SessionStats } from './session-stats.js'
 import { LiveFeed, BIG_WIN } from './live-feed.js'
 import { ResultsStrip } from './results-strip.js'
 import { RecallView } from './recall-view.js'
+import { SeededRoom } from './seeded-room.js'
+import { RoomClock } from './room-clock.js'
+import { pageDelivery, applyDropEvents, reportDesync, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
 
 /**
  * The player's page: connects with the guest session, joins the chosen
@@ -38,6 +41,8 @@ const AUTO_DROP_EVERY_MS = 250
 const MAX_REDIRECTS = 3
 /** A floating "+payout" for own wins of this multiple or more (BIG_WIN and up: the big celebration). */
 const FLOAT_WIN = 2
+/** A result that comes this soon after its ball landed on screen still gets its effects (seeds mode draws close to the room's tick). */
+const LATE_RESULT_MS = 1000
 /** How often the room's player count is asked for (GET /api/rooms). */
 const PLAYERS_EVERY_MS = 4000
 
@@ -88,6 +93,11 @@ const state = {
   firstBoardFrameAt: null,
   status: 'connecting',
   warnings: [],
+  /** The delivery mode asked for in `join` (seeds-delivery.js), and the rooms switched to snapshots after a desync. */
+  delivery: pageDelivery(location.search),
+  snapshotRooms: new Set(),
+  /** Seeds mode: binary frames that were not drop events, and the desyncs seen. */
+  seeds: { otherFrames: 0, desyncs: [] },
   /** @type {{ now: number, tick: number, balls: number, deviation: number, a: number | null, b: number | null }[] | null} per-frame record, when tracing */
   trace: null
 }
@@ -148,8 +158,14 @@ function onJoined (message) {
     warn(`The server's board for room ${message.room} differs from the one this page's engine builds: outcomes shown here may not match.`)
   }
   state.joinedRoom = message.room
-  state.view = new RoomView({ room: message.room, board, snapshotChecks, snapshotEvery: message.snapshotEvery })
-  state.timeline = new SnapshotTimeline({ tickRate: message.tickRate, snapshotEvery: message.snapshotEvery })
+  if (message.delivery === 'seeds') {
+    // The page simulates the room itself (seeded-room.js) at the room's tick.
+    state.view = new SeededRoom({ room: message.room, board, boardFor: (engineVersion) => verifier.board(parsed.rows, parsed.risk, engineVersion) })
+    state.timeline = new RoomClock({ tickRate: message.tickRate, rttMs: () => socket.rttMs })
+  } else {
+    state.view = new RoomView({ room: message.room, board, snapshotChecks, snapshotEvery: message.snapshotEvery })
+    state.timeline = new SnapshotTimeline({ tickRate: message.tickRate, snapshotEvery: message.snapshotEvery })
+  }
   state.timeline.observe(message.tick, performance.now())
   renderer.setBoard(board)
   const inRoom = new Set()
@@ -185,6 +201,8 @@ function onDropped (message) {
 }
 
 function onSettled (message) {
+  // Seeds mode: the ball's simulation may not have reached its landing yet.
+  if (message.room === state.joinedRoom) state.view?.complete?.(message.dropId)
   const verification = verifier.settle(message)
   if (verification && !verification.verified) warnMismatch(verification)
   const local = message.room === state.joinedRoom ? state.view?.drops.get(message.dropId) : undefined
@@ -197,7 +215,7 @@ function onSettled (message) {
   setBalance(message.balance)
   onAutoResult(message)
   if (local && !local.landingShown) state.settledUnseen.set(message.dropId, message)
-  else reveal(message, false)
+  else reveal(message, local?.landedOnScreenAt !== undefined && performance.now() - local.landedOnScreenAt < LATE_RESULT_MS)
   history.upsert(message.dropId, {
     room: message.room,
     bet: message.bet,
@@ -210,6 +228,11 @@ function onSettled (message) {
 
 function onError (message) {
   if (message.code === 'E_WRONG_NODE') return followRedirect(message)
+  if (message.ref === 'join' && state.delivery !== DELIVERY_SNAPSHOTS && (message.code === 'E_BAD_DELIVERY' || message.code === 'E_BAD_MESSAGE')) {
+    // A server without the seeds delivery: snapshots it is.
+    state.delivery = DELIVERY_SNAPSHOTS
+    return join(state.roomId)
+  }
   say(`${message.code}: ${message.message}`, 'error')
   const run = state.autoRun
   if (typeof message.ref !== 'string' || !run || !run.refs.has(message.ref)) return
@@ -267,6 +290,7 @@ async function refreshPlayers () {
 }
 
 function handleSnapshot (frame, receivedAt) {
+  if (state.view instanceof SeededRoom) return onDropEvents(frame, receivedAt)
   const split = splitRoomFrame(frame)
   if (!split) return
   handleRoomEvents(split.events)
@@ -274,6 +298,20 @@ function handleSnapshot (frame, receivedAt) {
   if (!snapshot || !state.view || !state.timeline) return
   state.view.check(snapshot)
   state.timeline.push(snapshot, receivedAt)
+}
+
+/** Seeds mode: other players' drops go on the board, and the page's simulation is checked against the server's hash. */
+function onDropEvents (frame, receivedAt) {
+  const room = state.joinedRoom
+  const check = applyDropEvents(frame, receivedAt, { view: state.view, clock: state.timeline, add: (event) => track({ ...event, room }) })
+  if (check === null) { state.seeds.otherFrames++; return }
+  if (check.ok) return
+  const desync = { room, tick: check.tick, server: check.server, local: check.local, ballsInFlight: check.balls, engineVersion: state.view.board.engineVersion }
+  state.seeds.desyncs.push(desync)
+  say(`This page's simulation of room ${room} disagrees with the server's at tick ${check.tick}: showing the server's positions instead.`, 'error')
+  state.snapshotRooms.add(room)
+  join(room)
+  reportDesync(desync, session.token).then((sent) => { desync.reported = sent })
 }
 
 /**
@@ -291,7 +329,9 @@ function handleRoomEvents (events) {
 function track (announced) {
   const parsed = parseRoomId(announced.room)
   if (!parsed) return
-  const local = verifier.simulate(announced, parsed, state.playerId)
+  const live = announced.room === state.joinedRoom && state.view instanceof SeededRoom
+  // Seeds mode: the ball's own simulation on the board gives the outcome the verifier checks.
+  const local = live ? verifier.expect(announced, parsed, state.playerId) : verifier.simulate(announced, parsed, state.playerId)
   if (announced.room === state.joinedRoom && state.view) state.view.add(local)
 }
 
@@ -324,7 +364,8 @@ function followRedirect (message) {
 function join (roomId) {
   state.roomId = roomId
   localStorage.setItem(ROOM_KEY, roomId)
-  socket.send({ type: 'join', room: roomId, ref: 'join' })
+  const delivery = state.snapshotRooms.has(roomId) ? DELIVERY_SNAPSHOTS : state.delivery
+  socket.send({ type: 'join', room: roomId, delivery, ref: 'join' })
 }
 
 /**
@@ -623,10 +664,12 @@ function onLanding (landing, now) {
   const drop = landing.drop
   const multiplier = state.view.board.multipliers[landing.bucket]
   if (!landing.stale) {
+    drop.landedOnScreenAt = now
     renderer.flash(landing.bucket, landing.mine, now)
     sound.landing(multiplier, landing.mine)
   }
   if (drop.settled) addToFeed(drop.settled)
+  else if (drop.result) addToFeed(drop.result) // seeds mode: another player's, as simulated here
   const settled = state.settledUnseen.get(landing.dropId)
   if (settled) reveal(settled, !landing.stale)
 }
@@ -722,6 +765,14 @@ window.__plinko = {
   get lastReveal () { return fairness.lastReveal },
   get revealedSeeds () { return fairness.revealedSeeds },
   get snapshotChecks () { return { ...snapshotChecks } },
+  /** 'seeds' or 'snapshots': how the joined room is delivered */
+  get delivery () { return state.view instanceof SeededRoom ? 'seeds' : state.view ? 'snapshots' : null },
+  get seeds () {
+    const view = state.view instanceof SeededRoom ? state.view : null
+    return { ...state.seeds, desyncs: state.seeds.desyncs.map((d) => ({ ...d })), room: view ? { ...view.stats, inFlight: view.drops.size } : null, trace: view?.trace ?? null }
+  },
+  /** Seeds mode: records every drawn ball position (drop id, render tick, x, y). */
+  startSeedsTrace: () => { if (state.view instanceof SeededRoom) state.view.trace = [] },
   get timeline () { return state.timeline ? { ...state.timeline.stats, delayMs: state.timeline.delayMs, jitterMs: state.timeline.jitterMs, ticksPerSecond: state.timeline.rate * 1000 } : null },
   get frames () { return renderer.frames },
   get warnings () { return state.warnings.slice() },

@@ -18,21 +18,16 @@
  * than the one being rendered from are stale and dropped.
  */
 
+import { TickModel, advanceRenderTick } from './tick-model.js'
+
 /** A slower network than this would be unplayable anyway. */
 const MAX_DELAY_MS = 1000
 const MIN_DELAY_MS = 100
 const FRAME_MS = 1000 / 60
-/** Render clock may run this much faster or slower than real time while converging. */
-const MAX_SLEW = 0.1
-/** Further than this from the target, the render clock snaps instead of slewing. */
-const SNAP_MS = 750
-/** The clock model forgets a late bias at this rate per sample. */
-const OFFSET_DECAY = 0.02
-const JITTER_GAIN = 0.1
 /** Clock samples of this last stretch estimate the server's real tick rate (tests run servers faster than 60 Hz). */
 const RATE_WINDOW_MS = 4000
 const RATE_MAX_SAMPLES = 512
-const RATE_MIN_SPAN_MS = 1000
+const RATE_MIN_SAMPLES = 8
 const MAX_BUFFERED = 120
 
 /** @typedef {import('/protocol/snapshot-codec.js').Snapshot} Snapshot */
@@ -44,7 +39,7 @@ export class SnapshotTimeline {
    * @param {number} options.snapshotEvery ticks between snapshots
    */
   constructor ({ tickRate, snapshotEvery }) {
-    this.nominalRate = tickRate
+    this.clock = new TickModel({ tickRate, windowMs: RATE_WINDOW_MS, maxSamples: RATE_MAX_SAMPLES, minSamples: RATE_MIN_SAMPLES })
     this.snapshotEvery = snapshotEvery
     /** @type {Snapshot[]} ascending by tick */
     this.buffer = []
@@ -55,16 +50,18 @@ export class SnapshotTimeline {
   /** Forgets the clock and the buffer (a new room or a new connection). */
   reset () {
     this.buffer.length = 0
-    this.rate = this.nominalRate / 1000 // ticks per ms
-    this.offset = null
-    this.jitterMs = 0
+    this.clock.reset()
     this.delayMs = MIN_DELAY_MS
     /** @type {number | null} */
     this.renderTick = null
     this.lastFrameAt = null
     this.consumedTick = -1
-    this._samples = []
   }
+
+  /** ticks per ms, as measured */
+  get rate () { return this.clock.rate }
+  /** mean lateness of frames behind the clock model (ms) */
+  get jitterMs () { return this.clock.jitterMs }
 
   /**
    * A clock observation: the server was at `tick` when it sent something
@@ -72,20 +69,7 @@ export class SnapshotTimeline {
    * @param {number} tick @param {number} now ms (performance.now())
    */
   observe (tick, now) {
-    const samples = this._samples
-    samples.push(now, tick)
-    let old = 0
-    while (old < samples.length - 2 && (now - samples[old] > RATE_WINDOW_MS || samples.length - old > 2 * RATE_MAX_SAMPLES)) old += 2
-    if (old > 0) samples.splice(0, old)
-    this._estimateRate()
-    const sample = tick - now * this.rate
-    if (this.offset === null || sample > this.offset) {
-      this.offset = sample
-      return
-    }
-    const latenessMs = (this.offset - sample) / this.rate
-    this.jitterMs += (latenessMs - this.jitterMs) * JITTER_GAIN
-    this.offset += (sample - this.offset) * OFFSET_DECAY
+    this.clock.observe(tick, now)
   }
 
   /**
@@ -115,7 +99,7 @@ export class SnapshotTimeline {
 
   /** The server tick the clock model expects now. @param {number} now */
   serverTickAt (now) {
-    return this.offset === null ? null : this.offset + now * this.rate
+    return this.clock.tickAt(now)
   }
 
   /** Playout delay for the jitter measured so far (ms). */
@@ -137,16 +121,7 @@ export class SnapshotTimeline {
     const target = serverTick - this.delayMs * this.rate
     const elapsed = this.lastFrameAt === null ? 0 : Math.max(0, now - this.lastFrameAt)
     this.lastFrameAt = now
-    if (this.renderTick === null || Math.abs(target - this.renderTick) > SNAP_MS * this.rate) {
-      if (this.renderTick !== null) this.stats.snaps++
-      // Never backwards, even when snapping.
-      this.renderTick = this.renderTick === null ? target : Math.max(this.renderTick, target)
-    } else {
-      const step = elapsed * this.rate
-      const error = target - (this.renderTick + step)
-      const limit = MAX_SLEW * step
-      this.renderTick += step + Math.max(-limit, Math.min(limit, error))
-    }
+    this.renderTick = advanceRenderTick(this.renderTick, target, elapsed, this.rate, this.stats)
     const newest = this.buffer.length > 0 ? this.buffer[this.buffer.length - 1].tick : -1
     if (newest >= 0 && this.renderTick > newest) this.stats.underruns++
     return this.renderTick
@@ -167,30 +142,5 @@ export class SnapshotTimeline {
     if (i > 1) buffer.splice(0, i - 1)
     if (a) this.consumedTick = Math.max(this.consumedTick, a.tick)
     return { a, b: buffer.find((s) => s.tick > tick) ?? null }
-  }
-
-  _estimateRate () {
-    const samples = this._samples
-    const n = samples.length / 2
-    if (n < 8 || samples[samples.length - 2] - samples[0] < RATE_MIN_SPAN_MS) return
-    // Least squares slope of tick over time.
-    let meanT = 0; let meanK = 0
-    for (let i = 0; i < samples.length; i += 2) { meanT += samples[i]; meanK += samples[i + 1] }
-    meanT /= n; meanK /= n
-    let num = 0; let den = 0
-    for (let i = 0; i < samples.length; i += 2) {
-      const dt = samples[i] - meanT
-      num += dt * (samples[i + 1] - meanK)
-      den += dt * dt
-    }
-    if (den <= 0) return
-    const nominal = this.nominalRate / 1000
-    const slope = Math.min(nominal * 8, Math.max(nominal / 8, num / den))
-    if (this.offset !== null) {
-      // Keep the model continuous at the last sample when the rate changes.
-      const lastT = samples[samples.length - 2]
-      this.offset += (this.rate - slope) * lastT
-    }
-    this.rate = slope
   }
 }

@@ -21,7 +21,7 @@ import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
 import { parseArgs } from 'node:util'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 import WebSocket from 'ws'
 import { createBoard, simulateDrop } from '../engine/index.js'
 import { payoutFor } from '../server/game/money.js'
@@ -135,7 +135,7 @@ function slope (points) {
 
 /** Every drop settled from its seed, once; every balance = start + payouts − bets. */
 function checkLedger (file, players) {
-  const db = new Database(file, { readonly: true })
+  const db = new DatabaseSync(file, { readOnly: true })
   try {
     const rows = db.prepare('SELECT id, player_id, rows, risk, engine_version, drop_seed, bet, status, payout, payout_rule FROM drops').all()
     const boards = new Map()

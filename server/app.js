@@ -8,13 +8,16 @@ import { Arena } from './arena.js'
 import { GameError, gameError } from './errors.js'
 import { createMetrics } from './metrics.js'
 import { modeOf } from './coordination/modes.js'
+import { SeedChanges } from './game/seed-changes.js'
 import { AuthGuard } from './limits/auth-guard.js'
+import { ConnectionLimits, connectionCeiling } from './limits/connection-limits.js'
 import apiDocs from './routes/api-docs.js'
 import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
 import roomRoutes from './routes/rooms.js'
+import clientReportRoutes from './routes/client-reports.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -64,9 +67,10 @@ export async function buildApp (config, options = {}) {
     keepAliveTimeout: Math.min(KEEP_ALIVE_MS, config.httpIdleTimeoutMs),
     requestTimeout: config.httpRequestTimeoutMs,
     // Node checks for requests past their timeout on this period (default 30 s): a slow
-    // sender (slowloris) is answered 408 and closed within about one period of its deadline.
+    // sender (slowloris) is answered 408 and closed within about one period of its deadline
+    // (its headers' deadline: HTTP_HEADERS_TIMEOUT_MS).
     // Missing Host is refused by requireHost (with a code), not by Node (with an empty body).
-    http: { connectionsCheckingInterval: Math.min(1000, config.httpRequestTimeoutMs), requireHostHeader: false },
+    http: { connectionsCheckingInterval: Math.min(1000, config.httpHeadersTimeoutMs), headersTimeout: config.httpHeadersTimeoutMs, requireHostHeader: false },
     // Errors raised before routing (a malformed URL such as '/%') get a named code too.
     // Parser errors, header overflow and slow senders get a named code too (routes/client-errors.js).
     clientErrorHandler,
@@ -90,6 +94,12 @@ export async function buildApp (config, options = {}) {
     await store.close().catch(() => {})
     throw error
   }
+  // Connections in total and per peer, the longest idle shed first (limits/connection-limits.js).
+  new ConnectionLimits({
+    maxTotal: connectionCeiling(config.httpMaxConnections),
+    maxPerAddress: config.trustProxy === false ? config.httpMaxConnectionsPerIp : null,
+    metrics
+  }).attach(app.server)
   const addressLimits = mode.createAddressLimits({ config, log: app.log })
   const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   app.decorate('arena', arena)
@@ -138,14 +148,18 @@ export async function buildApp (config, options = {}) {
   await app.register(methodNotAllowed, {
     notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
   })
-  await app.register(sessionRoutes, { arena, authGuard })
-  await app.register(seedRoutes, { arena, authGuard })
-  await app.register(dropRoutes, { arena, authGuard })
-  await app.register(roomRoutes, { arena })
-  await app.register(healthRoutes, { arena })
-  await app.register(realtimeRoutes, { arena, authGuard })
+  // Each route gets the services it uses, not the whole arena.
+  const { accounts } = arena
+  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, coordinator })
+  await app.register(sessionRoutes, { config, store, accounts, authGuard })
+  await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
+  await app.register(dropRoutes, { store, authGuard })
+  await app.register(roomRoutes, { coordinator })
+  await app.register(clientReportRoutes)
+  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
+  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
-  await app.register(auditRoutes, { arena, authGuard })
+  await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
 

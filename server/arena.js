@@ -79,6 +79,14 @@ export class Arena {
     return this.ballsInFlight + this.drops.unsettled
   }
 
+  /**
+   * @typedef {{ accepting: boolean, settlementsWaiting: number, store: string, tick: number, rooms: number }} ArenaHealth
+   * @returns {ArenaHealth} what GET /api/health reports
+   */
+  health () {
+    return { accepting: this.accepting, settlementsWaiting: this.drops.settlementsWaiting, store: this.store.kind, tick: this.scheduler.ticks, rooms: this.rooms.size }
+  }
+
   /** One tick for every room. */
   tick () {
     let inFlight = 0
@@ -139,7 +147,9 @@ export class Arena {
    * @param {import('./realtime/connection.js').Connection} connection
    * @param {unknown} roomId
    * @param {string} [deliveryName] `join.delivery` (schema-checked): how this socket is fed in the room
-   * @returns {object | Promise<object>} the `joined` message
+   * @returns {object | Promise<object>} the `joined` message: itself when the room runs here, on purpose,
+   *   so a `drop` that follows the `join` in the same TCP chunk (ws emits their messages in one call
+   *   stack, with no microtask between them) finds the room joined; a Promise only when it must be claimed
    */
   join (connection, roomId, deliveryName) {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
@@ -236,7 +246,8 @@ export class Arena {
       this.ledger.flush()
     }
     await this.ledger.drain()
-    while (this.drops.unsettled > 0) {
+    // Only while a retry is pending: anything else still counted is reported by the caller, not waited for.
+    while (this.drops.unsettled > 0 && this.drops.retryTimers.size > 0) {
       await this.drops.nextRetry()
       await this.ledger.drain()
     }

@@ -90,11 +90,16 @@ export const CONFIG_SCHEMA = {
     AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
     HTTP_REQUEST_TIMEOUT_MS: integer(100, 3600000, '30000'),
+    HTTP_HEADERS_TIMEOUT_MS: integer(100, 3600000, '10000'),
+    HTTP_MAX_CONNECTIONS: integer(0, 1e7, '0'),
+    HTTP_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '256'),
     SESSION_RATE_LIMIT: integer(1, 1e9, '30'),
     WS_MAX_CONNECTIONS: integer(1, 1e7, '10000'),
     WS_MAX_CONNECTIONS_PER_IP: integer(1, 1e7, '50'),
     WS_MESSAGE_RATE: integer(1, 1e6, '100'),
     WS_MESSAGE_BURST: integer(1, 1e6, '200'),
+    WS_IP_MESSAGE_RATE: integer(1, 1e9, '500'),
+    WS_IP_BYTE_RATE: integer(1024, 1e12, '262144'),
     WS_HEARTBEAT_MS: integer(100, 3600000, '30000'),
     SHUTDOWN_TIMEOUT_MS: integer(100, 3600000, '10000'),
     // See trustProxy() for what each form means.
@@ -160,10 +165,15 @@ export const CONFIG_SCHEMA = {
  * @property {number} sessionRateLimit new sessions per IP per minute
  * @property {number} httpIdleTimeoutMs an HTTP connection idle this long is closed (also keep-alive between requests, capped at 5 s)
  * @property {number} httpRequestTimeoutMs a request must arrive whole (headers and body) within this
+ * @property {number} httpHeadersTimeoutMs its headers within this (at most httpRequestTimeoutMs)
+ * @property {number} httpMaxConnections HTTP connections in total, WebSockets included (0: 90% of the open-file limit; never more than that)
+ * @property {number} httpMaxConnectionsPerIp HTTP connections per TCP peer address (off behind a proxy: TRUST_PROXY)
  * @property {number} wsMaxConnections open WebSockets in total
  * @property {number} wsMaxConnectionsPerIp open WebSockets per client IP
  * @property {number} wsMessageRate frames per second per connection (token bucket refill)
  * @property {number} wsMessageBurst token bucket capacity for frames per connection
+ * @property {number} wsIpMessageRate frames per second received from one client IP over all its sockets
+ * @property {number} wsIpByteRate payload bytes per second received from one client IP over all its sockets
  * @property {number} wsHeartbeatMs ping interval; a peer that misses a ping is dropped
  * @property {number} shutdownTimeoutMs bound on a graceful shutdown, after which the process exits anyway
  * @property {false | number | string[]} trustProxy which X-Forwarded-For hops to believe (see trustProxy()) @property {string} clientDir
@@ -272,11 +282,16 @@ export function loadConfig (env = process.env) {
     authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
     httpRequestTimeoutMs: values.HTTP_REQUEST_TIMEOUT_MS,
+    httpHeadersTimeoutMs: Math.min(values.HTTP_HEADERS_TIMEOUT_MS, values.HTTP_REQUEST_TIMEOUT_MS),
+    httpMaxConnections: values.HTTP_MAX_CONNECTIONS,
+    httpMaxConnectionsPerIp: values.HTTP_MAX_CONNECTIONS_PER_IP,
     sessionRateLimit: values.SESSION_RATE_LIMIT,
     wsMaxConnections: values.WS_MAX_CONNECTIONS,
     wsMaxConnectionsPerIp: values.WS_MAX_CONNECTIONS_PER_IP,
     wsMessageRate: values.WS_MESSAGE_RATE,
     wsMessageBurst: values.WS_MESSAGE_BURST,
+    wsIpMessageRate: values.WS_IP_MESSAGE_RATE,
+    wsIpByteRate: values.WS_IP_BYTE_RATE,
     wsHeartbeatMs: values.WS_HEARTBEAT_MS,
     shutdownTimeoutMs: values.SHUTDOWN_TIMEOUT_MS,
     trustProxy: trustProxy(values.TRUST_PROXY),

@@ -33,7 +33,7 @@ export const ERROR_CODES = Object.freeze({
   // Clustering (server/cluster/): the reply to `join` carries `room`, and `owner` (a URL) or `retryAfterMs`.
   E_WRONG_NODE: { status: 421, message: 'this room runs on another server process; reconnect to `owner` (its /ws) and join again' },
   E_ROOM_MOVING: { status: 503, message: 'the process that ran this room stopped answering; retry after `retryAfterMs`' },
-  E_SEED_ROTATED: { status: 409, message: 'the server seed was rotated by another connection; reconnect to use the new one' }
+  E_SEED_ROTATED: { status: 409, message: 'the server seed was rotated by another connection; drop again to use the new one' }
 })
 
 /** A named, expected failure: its code decides the HTTP status and the protocol reply. */

@@ -6,6 +6,7 @@ import { GameError, gameError } from '../errors.js'
 import { settleInterruptedDrops } from '../game/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'
 import { BalanceSync } from './balance-sync.js'
+import { SeedSync } from './seed-sync.js'
 
 /**
  * The coordinator of a process in a cluster (../coordination/coordinator.js):
@@ -13,7 +14,8 @@ import { BalanceSync } from './balance-sync.js'
  * room summaries) every TTL/3, gives a room's lease back once the room is
  * disposed and its ledger writes are committed, and settles the drops of
  * rooms left by dead processes. Nonces and drop ids come in blocks from the
- * shared ledger, and committed balances are announced to the others.
+ * shared ledger, and committed balances and seed rotations are announced
+ * to the others (a rotation is answered once they have switched).
  *
  * Takeover: a room whose lease expired (its owner died) is claimed by the
  * first process a player joins it on, or by the sweep (every TTL) if drops
@@ -42,6 +44,8 @@ export class ClusterCoordinator {
     this.directory = null
     /** Other processes' balance changes reach the accounts held here. */
     this.balances = null
+    /** Other processes' seed rotations reach the accounts held here. */
+    this.seeds = null
     /** Rooms whose lease we hold. */
     this.owned = new Set()
     /** Per room: the tail of its claim/release chain (they never overlap). */
@@ -70,7 +74,9 @@ export class ClusterCoordinator {
     })
     this.balances = new BalanceSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store: this.store, log: this.log })
     await this.redis.connect()
+    this.seeds = new SeedSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store: this.store, log: this.log })
     await this.balances.start()
+    await this.seeds.start()
     await this.directory.publish([])
     await this.sweep()
     const every = (ms, job) => {
@@ -92,6 +98,12 @@ export class ClusterCoordinator {
 
   /** @param {Iterable<string>} playerIds */
   balancesCommitted (playerIds) { this.balances.committed(playerIds) }
+
+  /** @param {import('../ledger/accounts.js').Account} account */
+  seedRotated (account) { return this.seeds.rotated(account.playerId, account.seed.id) }
+
+  /** @param {import('../ledger/accounts.js').Account} account */
+  seedOutdated (account) { return this.seeds.refresh(account) }
 
   /** Every room running in the cluster, with the URL of the process that runs it. */
   listRooms () { return this.directory.list() }
@@ -220,10 +232,12 @@ export class ClusterCoordinator {
       if (!this.redis) return
       await this.redis.del(KEYS.node(this.nodeId))
       await this.balances.close()
+      await this.seeds.close()
       await this.redis.quit()
     } catch (error) {
       this.log.warn({ err: error }, 'leaving the cluster failed; leases expire after their TTL')
       this.balances?.subscriber?.disconnect()
+      this.seeds?.subscriber?.disconnect()
       this.redis.disconnect()
     }
   }

@@ -147,7 +147,11 @@ export class SharedLedgerStore extends PostgresStore {
       const { rowCount } = await client.query(
         'UPDATE server_seeds SET active = 0, revealed_at = $1 WHERE id = $2 AND player_id = $3 AND active = 1',
         [at, oldSeedId, playerId])
-      if (rowCount !== 1) throw gameError('E_SEED_ROTATED', `seed ${oldSeedId} is no longer the active seed; reconnect to get the new one`)
+      if (rowCount !== 1) throw gameError('E_SEED_ROTATED', `seed ${oldSeedId} is no longer the active seed (rotated by another process); try again`)
+      // Another process's drops on the old seed may have committed while this waited for the row (their FOR SHARE),
+      // stamped by its clock after `at`: the seed is revealed after the last of them (none can follow: it is inactive).
+      await client.query(`UPDATE server_seeds SET revealed_at = GREATEST(revealed_at,
+          COALESCE((SELECT MAX(created_at) FROM drops WHERE server_seed_id = $1), 0)) WHERE id = $1`, [oldSeedId])
       await client.query('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES ($1, $2, $3, $4, 1, $5, $6)',
         [newSeed.id, playerId, newSeed.seed, newSeed.hash, this.nonceBlock, at])
     })

@@ -8,7 +8,7 @@
  *   every room is ours, nonces and drop ids are counted in memory.
  * - ClusterCoordinator (../cluster/cluster-coordinator.js): rooms are held
  *   by leases in Redis, nonces and drop ids come in blocks from the shared
- *   ledger, committed balances are announced to the other processes, and a
+ *   ledger, committed balances and seed rotations are announced to the other processes, and a
  *   lost lease evicts the room (Arena.evictRoom).
  *
  * @typedef {object} Coordinator
@@ -21,6 +21,10 @@
  * @property {(seed: { id: string, nextNonce: number }) => number} takeNonce the seed's next nonce, never given back
  * @property {() => number} takeDropId the next drop id, never given back
  * @property {(playerIds: Iterable<string>) => void} balancesCommitted these players' balances changed in the ledger
+ * @property {(account: import('../ledger/accounts.js').Account) => Promise<void>} seedRotated
+ *   this process rotated the account's server seed (committed): resolves once every other process holding it uses the new one
+ * @property {(account: import('../ledger/accounts.js').Account) => Promise<void>} seedOutdated
+ *   the ledger refused a drop on a seed no longer active (E_SEED_ROTATED): re-reads the account's active seed (never rejects)
  * @property {() => Promise<object[]>} listRooms every room running (anywhere), as GET /api/rooms shows it
  * @property {(url: string) => void} setListenUrl where this process listens, once it does
  * @property {() => Promise<void>} close after the arena has settled and committed everything

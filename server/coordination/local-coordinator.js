@@ -29,6 +29,8 @@ export class LocalCoordinator {
   takeNonce (seed) { return seed.nextNonce++ }
   takeDropId () { return this.nextDropId++ }
   balancesCommitted () {}
+  async seedRotated () {}
+  async seedOutdated () {}
   async listRooms () { return [...this.arena.rooms.values()].map((room) => room.summary()) }
   setListenUrl () {}
   async close () {}

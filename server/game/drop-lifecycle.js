@@ -79,7 +79,7 @@ export class DropLifecycle {
     if (!Number.isSafeInteger(bet) || bet < minBet || bet > maxBet) throw gameError('E_BAD_BET', `bet must be an integer from ${minBet} to ${maxBet}`)
     if (clientSeed !== undefined && !isValidClientSeed(clientSeed)) throw gameError('E_BAD_SEED')
     const account = connection.account
-    // Its seed is about to be revealed (fairness/seed-rotation.js): no drop may be recorded on it after that.
+    // Its seed is about to be revealed (game/seed-changes.js): no drop may be recorded on it after that.
     if (account.seedRotations > 0) throw gameError('E_SEED_ROTATING')
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
     if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
@@ -131,19 +131,7 @@ export class DropLifecycle {
     for (const settlement of this.settling) if (settlement.drop.void) this.settling.delete(settlement)
   }
 
-  /**
-   * Sends every settlement waiting for its back-off to the ledger now and
-   * resolves once they have been tried (the shutdown's last attempts).
-   */
-  async retryWaitingNow () {
-    for (const [settlement, timer] of this.retryTimers) {
-      clearTimeout(timer)
-      this._retry(settlement)
-    }
-    await this.ledger.drain()
-  }
-
-  /** Resolves when the next settlement's back-off ends (at once if none waits). */
+  /** Resolves when the next settlement's back-off ends and it is queued (at once if none waits). */
   nextRetry () {
     if (this.retryTimers.size === 0) return Promise.resolve()
     return new Promise((resolve) => this._retryWaiters.push(resolve))
@@ -196,7 +184,9 @@ export class DropLifecycle {
       const account = drop.account
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
-        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined)
+        // A seed rotated by another process: the player hears of it once this one has the new seed, so dropping again works.
+        const told = refused === 'E_SEED_ROTATED' ? this.coordinator.seedOutdated(account) : undefined
+        this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined, told)
         continue
       }
       account.reserved -= betCost(drop.bet)
@@ -213,7 +203,10 @@ export class DropLifecycle {
       const { drop, payout } = settlement
       const account = drop.account
       this.settling.delete(settlement)
-      if (settlement.attempts > 0) this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+      if (settlement.attempts > 0) {
+        this.log.warn({ dropId: drop.id, attempts: settlement.attempts + 1 }, 'delayed settlement written')
+        this.metrics.settlementsWaiting.set(this.settlementsWaiting)
+      }
       account.commits++
       // Settled by another process (a shared ledger after a takeover): not credited here.
       account.balance = running.apply(account.playerId, outcome.settled.has(drop.id) ? payout : 0)
@@ -247,6 +240,7 @@ export class DropLifecycle {
       }
       this.retryTimers.set(settlement, setTimeout(() => this._retry(settlement), delay).unref())
     }
+    if (settlements.length > 0) this.metrics.settlementsWaiting.set(this.settlementsWaiting)
   }
 
   /**
@@ -266,14 +260,19 @@ export class DropLifecycle {
     while (room.ballsInFlight > 0 && guard++ < 100_000) room.step(this.landed)
   }
 
-  /** A drop that was not recorded: its ball is forgotten, nothing was debited. */
-  _refuse (drop, code, message) {
+  /**
+   * A drop that was not recorded: its ball is forgotten, nothing was
+   * debited; the owner is told at once, or once `after` resolves.
+   * @param {Promise<void>} [after]
+   */
+  _refuse (drop, code, message, after) {
     const account = drop.account
     drop.room.discard(drop)
     account.reserved -= betCost(drop.bet)
     if (drop.clientSeedChange && account.clientSeed === drop.clientSeed) account.clientSeed = drop.clientSeedChange.previous
     this.accounts.release(account)
-    this._sendToOwner(drop, code, message)
+    if (after) after.then(() => this._sendToOwner(drop, code, message))
+    else this._sendToOwner(drop, code, message)
   }
 
   /**

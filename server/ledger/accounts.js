@@ -1,4 +1,5 @@
 import { TokenBucket } from './token-bucket.js'
+import { gameError } from '../errors.js'
 
 /**
  * A player's money and fairness state while the server works with it.
@@ -85,6 +86,22 @@ export class AccountBook {
   release (account) {
     if (account.holds <= 0) throw new Error(`account ${account.playerId} released more often than held`)
     if (--account.holds === 0 && this.accounts.get(account.playerId) === account) this.accounts.delete(account.playerId)
+  }
+
+  /**
+   * Runs `work` with the player's account held, released after.
+   * @template T
+   * @param {string} playerId @param {(account: Account) => T | Promise<T>} work
+   * @returns {Promise<T>} @throws GameError E_UNAUTHORIZED for a player the ledger does not have
+   */
+  async withAccount (playerId, work) {
+    const account = await this.acquire(playerId)
+    if (!account) throw gameError('E_UNAUTHORIZED', 'unknown player')
+    try {
+      return await work(account)
+    } finally {
+      this.release(account)
+    }
   }
 
   get size () { return this.accounts.size }

@@ -13,11 +13,11 @@ export class TokenBucket {
     this.updatedAt = now()
   }
 
-  /** Takes one token if there is one. @returns {boolean} */
-  take () {
+  /** Takes `count` tokens (one by default) if there are that many. @returns {boolean} */
+  take (count = 1) {
     this._refill()
-    if (this.tokens < 1) return false
-    this.tokens -= 1
+    if (this.tokens < count) return false
+    this.tokens -= count
     return true
   }
 

@@ -49,13 +49,17 @@ export class RedisAuthFailures {
     this.log = log
     this.prefix = prefix
     this.fallback = new LocalAuthFailures(policy)
+    /** Warned of this outage already (once per outage, not per request). */
+    this.degraded = false
     redis.defineCommand('plinkoAuthFail', { numberOfKeys: 1, lua: FAIL_SCRIPT })
     redis.defineCommand('plinkoAuthBlocked', { numberOfKeys: 1, lua: BLOCKED_SCRIPT })
   }
 
   async blockedFor (key) {
     try {
-      return Math.max(Number(await this.redis.plinkoAuthBlocked(this.prefix + key)), await this.fallback.blockedFor(key))
+      const blocked = Number(await this.redis.plinkoAuthBlocked(this.prefix + key))
+      this._redisAnswered()
+      return Math.max(blocked, await this.fallback.blockedFor(key))
     } catch (error) {
       this._redisFailed(error)
       return this.fallback.blockedFor(key)
@@ -65,7 +69,9 @@ export class RedisAuthFailures {
   async fail (key) {
     const { limit, windowMs, blockMs, maxBlockMs } = this.policy
     try {
-      return Number(await this.redis.plinkoAuthFail(this.prefix + key, limit, windowMs, blockMs, maxBlockMs))
+      const block = Number(await this.redis.plinkoAuthFail(this.prefix + key, limit, windowMs, blockMs, maxBlockMs))
+      this._redisAnswered()
+      return block
     } catch (error) {
       this._redisFailed(error)
       return this.fallback.fail(key)
@@ -73,7 +79,15 @@ export class RedisAuthFailures {
   }
 
   _redisFailed (error) {
-    this.log.warn({ err: error }, 'auth failure count: redis did not answer; counting in this process')
+    if (this.degraded) return
+    this.degraded = true
+    this.log.warn({ err: error }, 'failed authentications: redis does not answer; counting them in this process until it does')
+  }
+
+  _redisAnswered () {
+    if (!this.degraded) return
+    this.degraded = false
+    this.log.info('failed authentications: counted in redis again')
   }
 
   async close () { await this.fallback.close() }

@@ -4,6 +4,7 @@ import { toCredits } from '../game/money.js'
 import { holdWritesUntilEndOfTurn } from './write-batcher.js'
 import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
 import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
+import { discardUnread } from './discard-unread.js'
 
 /** Messages that may arrive while the token is being checked; more than this is abuse. */
 const MAX_EARLY_MESSAGES = 32
@@ -59,8 +60,9 @@ export class Connection {
       else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.drop(1008, 'too many messages before authentication')
     })
     // Protocol-level pings count against the frame rate too: ws answers each with a pong.
-    socket.on('ping', () => {
+    socket.on('ping', (data) => {
       if (this.messageLimiter && !this.messageLimiter.take()) this._overRate()
+      else if (this.ipLimits && !this.ipLimits.admitFrame(data.length, this.messageLimiter)) this._overRate('from this address')
     })
     socket.on('pong', () => { this.alive = true })
     socket.on('close', () => this._closed())
@@ -99,6 +101,8 @@ export class Connection {
   _receive (data, isBinary) {
     if (this.closed) return
     if (this.messageLimiter && !this.messageLimiter.take()) return this._overRate()
+    // The budget shared by every socket of this address (ip-limits.js).
+    if (this.ipLimits && !this.ipLimits.admitFrame(data.length, this.messageLimiter)) return this._overRate('from this address')
     let message
     try {
       if (isBinary) {
@@ -237,11 +241,13 @@ export class Connection {
     this.drop(ERROR_CODES.E_SLOW_CONSUMER.close, 'E_SLOW_CONSUMER')
   }
 
-  /** Over the frame rate: one reply, then the connection goes (1008). */
-  _overRate () {
+  /** Over the frame rate (this connection's, or its address's): one reply, then the connection goes (1008). */
+  _overRate (scope = 'per connection') {
     if (this.closed) return
     this.metrics.messagesIn.labels('rate_limited').inc()
-    this.sendError('E_RATE_LIMITED', `at most ${this.messageLimiter.rate} messages per second per connection; closing`)
+    this.sendError('E_RATE_LIMITED', scope === 'per connection'
+      ? `at most ${this.messageLimiter.rate} messages per second per connection; closing`
+      : 'too many messages per second from this address (over all its connections); closing')
     this.drop(OVER_RATE_CLOSE, 'E_RATE_LIMITED')
   }
 
@@ -266,7 +272,8 @@ export class Connection {
 
   /**
    * Closes a connection for abuse: the close frame goes out, nothing more is
-   * read (a flooder's frames are not even parsed), and the socket is
+   * read (a flooder's frames are not even parsed, those already received are
+   * thrown away: discard-unread.js), and the socket is
    * destroyed DROP_GRACE_MS later whether or not the peer answers.
    * @param {number} code @param {string} reason
    */
@@ -274,7 +281,11 @@ export class Connection {
     if (this.closed) return
     this.close(code, reason)
     this.socket.pause()
-    setTimeout(() => this.socket.terminate(), DROP_GRACE_MS).unref()
+    discardUnread(this.socket)
+    setTimeout(() => {
+      discardUnread(this.socket)
+      this.socket.terminate()
+    }, DROP_GRACE_MS).unref()
   }
 
   _closed () {

@@ -1,21 +1,37 @@
 import { TokenBucket } from '../ledger/token-bucket.js'
 
 /**
+ * Once its address's frame budget is spent, a socket still gets frames
+ * through while it has gone at most this many frames past its own rate
+ * (and sends frames of at most QUIET_FRAME_BYTES): an honest player behind
+ * the same address as a flooder keeps playing, every flooder is cut off.
+ */
+export const QUIET_SLACK = 10
+export const QUIET_FRAME_BYTES = 1024
+
+/**
  * What one client IP may do over WebSockets, across all its connections
- * and sessions: how many sockets it holds open, and token buckets for its
+ * and sessions: how many sockets it holds open, token buckets for its
  * drops and joins (a player who opens many sessions from one address still
- * shares these). An entry lives while the IP has sockets open, and then
- * until its buckets have refilled, so closing and reopening a socket never
- * hands out a fresh burst.
+ * shares these), and a budget of frames and bytes received over all its
+ * sockets (WS_IP_MESSAGE_RATE, WS_IP_BYTE_RATE, each bucket two seconds'
+ * worth): the per-socket burst (WS_MESSAGE_BURST) no longer adds up across
+ * sockets. An entry lives while the IP has sockets open, and then until its
+ * buckets have refilled, so closing and reopening a socket never hands out
+ * a fresh burst.
  */
 export class IpLimits {
   /**
-   * @param {{ dropRate: number, joinRate: number, now?: () => number }} options
-   *   rates per second; each bucket holds two seconds' worth
+   * @param {{ dropRate: number, joinRate: number, messageRate?: number, byteRate?: number, maxPayload?: number, now?: () => number }} options
+   *   rates per second (messages: frames received, bytes: their payloads); each bucket holds two seconds' worth
+   *   (the byte bucket at least one frame of maxPayload)
    */
-  constructor ({ dropRate, joinRate, now }) {
+  constructor ({ dropRate, joinRate, messageRate = Infinity, byteRate = Infinity, maxPayload = 0, now }) {
     this.dropRate = dropRate
     this.joinRate = joinRate
+    this.messageRate = messageRate
+    this.byteRate = byteRate
+    this.maxPayload = maxPayload
     this.now = now
     /** @type {Map<string, IpEntry>} */
     this.entries = new Map()
@@ -35,7 +51,9 @@ export class IpLimits {
     if (!entry) {
       entry = new IpEntry(ip, {
         drops: new TokenBucket({ rate: this.dropRate, burst: 2 * this.dropRate, now: this.now }),
-        joins: new TokenBucket({ rate: this.joinRate, burst: 2 * this.joinRate, now: this.now })
+        joins: new TokenBucket({ rate: this.joinRate, burst: 2 * this.joinRate, now: this.now }),
+        frames: new TokenBucket({ rate: this.messageRate, burst: 2 * this.messageRate, now: this.now }),
+        bytes: new TokenBucket({ rate: this.byteRate, burst: Math.max(2 * this.byteRate, this.maxPayload), now: this.now })
       })
       this.entries.set(ip, entry)
     }
@@ -52,7 +70,7 @@ export class IpLimits {
   sweep () {
     let forgotten = 0
     for (const [ip, entry] of this.entries) {
-      if (entry.open === 0 && entry.drops.isFull() && entry.joins.isFull()) {
+      if (entry.open === 0 && entry.drops.isFull() && entry.joins.isFull() && entry.frames.isFull() && entry.bytes.isFull()) {
         this.entries.delete(ip)
         forgotten++
       }
@@ -62,11 +80,28 @@ export class IpLimits {
 }
 
 class IpEntry {
-  /** @param {string} ip @param {{ drops: TokenBucket, joins: TokenBucket }} buckets */
-  constructor (ip, { drops, joins }) {
+  /** @param {string} ip @param {{ drops: TokenBucket, joins: TokenBucket, frames: TokenBucket, bytes: TokenBucket }} buckets */
+  constructor (ip, { drops, joins, frames, bytes }) {
     this.ip = ip
     this.open = 0
     this.drops = drops
     this.joins = joins
+    this.frames = frames
+    this.bytes = bytes
+  }
+
+  /**
+   * Takes a received frame of `size` bytes from the address's budget. Past
+   * it, only a quiet socket's frame is let through (small, and its own
+   * bucket within QUIET_SLACK of full); the caller closes the socket
+   * otherwise. @param {number} size
+   * @param {{ tokens: number, burst: number }} socketLimiter the socket's own frame bucket, already taken from
+   * @returns {boolean}
+   */
+  admitFrame (size, socketLimiter) {
+    const frames = this.frames.take()
+    const bytes = this.bytes.take(size)
+    if (frames && bytes) return true
+    return size <= QUIET_FRAME_BYTES && socketLimiter.tokens >= socketLimiter.burst - 1 - QUIET_SLACK
   }
 }

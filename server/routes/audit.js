@@ -46,14 +46,24 @@ function auditSchemaError (errors, part) {
  * exports and per-room statistics. Active server seeds are used for checks
  * but never returned.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ * @param {object} services
+ * @param {import('../store/ledger-store.js').LedgerStore} services.store
+ * @param {{ get: (id: string) => import('../rooms/room.js').Room | undefined }} services.rooms this process's live rooms
+ * @param {string} services.operatorToken
+ * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
-export default async function auditRoutes (app, { arena, authGuard }) {
-  const { store } = arena
+export default async function auditRoutes (app, { store, rooms, operatorToken, authGuard }) {
   // onRequest: the token is checked before anything of the request is (its query's schema included).
-  app.addHook('onRequest', requireOperator(arena.config.operatorToken, authGuard))
+  app.addHook('onRequest', requireOperator(operatorToken, authGuard))
   app.setSchemaErrorFormatter(auditSchemaError)
+  dropLookupRoutes(app, store)
+  verifyRoute(app, store)
+  exportRoute(app, store)
+  roomStatsRoute(app, store, rooms)
+}
 
+/** GET /api/audit/drops/:id (one drop, re-simulated) and /api/audit/drops (a search). */
+function dropLookupRoutes (app, store) {
   app.get('/api/audit/drops/:id', {
     schema: {
       summary: 'A stored drop, its re-simulation from the stored seeds and whether they match',
@@ -111,7 +121,10 @@ export default async function auditRoutes (app, { arena, authGuard }) {
     const { player, room, from, to, limit, before } = request.query
     return { drops: await store.listDrops({ playerId: player, room, from: timeFilter('from', from), to: timeFilter('to', to), beforeId: before, limit }) }
   })
+}
 
+/** GET /api/audit/verify: the chain of a drop given by its seeds, stored or not. */
+function verifyRoute (app, store) {
   app.get('/api/audit/verify', {
     schema: {
       summary: 'Recompute a drop from seeds (through the engine\'s WebCrypto path, as a browser would)',
@@ -158,7 +171,10 @@ export default async function auditRoutes (app, { arena, authGuard }) {
     }))
     return { ...result, recorded }
   })
+}
 
+/** GET /api/audit/export: a player's or a seed's whole history. */
+function exportRoute (app, store) {
   app.get('/api/audit/export', {
     schema: {
       summary: 'The full drop history of a player or of one server seed, oldest first, as JSON or JSON lines',
@@ -186,7 +202,10 @@ export default async function auditRoutes (app, { arena, authGuard }) {
     reply.type('application/json')
     return reply.send(Readable.from(jsonArray(drops)))
   })
+}
 
+/** GET /api/audit/rooms/:id/stats: a room's settled drops by bucket and its measured RTP, live figures where it runs here. */
+function roomStatsRoute (app, store, rooms) {
   app.get('/api/audit/rooms/:id/stats', {
     schema: {
       summary: 'A room\'s settled drops: totals, measured RTP and bucket counts (for the operator\'s charts)',
@@ -229,7 +248,7 @@ export default async function auditRoutes (app, { arena, authGuard }) {
     const board = boardOf(id, engineVersion)
     const bucketCounts = new Array(board.rows + 1).fill(0)
     for (const { bucket, count } of stats.buckets) bucketCounts[bucket] = count
-    const live = arena.rooms.get(id)
+    const live = rooms.get(id)
     return {
       room: id,
       engineVersion,

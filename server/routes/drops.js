@@ -15,10 +15,9 @@ const publicDropRecord = { type: 'object', properties: Object.fromEntries(PUBLIC
  * only once it has been revealed); and any drop's public facts, for a page
  * in seeds mode that verifies another player's drop on demand.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ * @param {{ store: import('../store/ledger-store.js').LedgerStore, authGuard: import('../limits/auth-guard.js').AuthGuard }} services
  */
-export default async function dropRoutes (app, { arena, authGuard }) {
-  const { store } = arena
+export default async function dropRoutes (app, { store, authGuard }) {
   const asPlayer = requirePlayer(store, authGuard)
 
   app.get('/api/drops', {

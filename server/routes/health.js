@@ -4,13 +4,14 @@ import { errorReply } from './schemas.js'
 /**
  * GET /api/health: liveness for load balancers and the client's about box.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ health: () => import('../arena.js').ArenaHealth, rateLimit: number }} services
+ *   health: the game's state now; rateLimit: MONITORING_RATE_LIMIT
  */
-export default async function healthRoutes (app, { arena }) {
+export default async function healthRoutes (app, { health, rateLimit }) {
   app.get('/api/health', {
     // A budget of its own (MONITORING_RATE_LIMIT), apart from HTTP_RATE_LIMIT: probes
     // never compete with the API, and one client cannot make the server answer thousands a second.
-    config: { rateLimit: { max: arena.config.monitoringRateLimit, timeWindow: 60_000 } },
+    config: { rateLimit: { max: rateLimit, timeWindow: 60_000 } },
     schema: {
       summary: 'Liveness',
       response: {
@@ -21,14 +22,17 @@ export default async function healthRoutes (app, { arena }) {
         }
       }
     }
-  }, async () => ({
-    // degraded: payouts the ledger refused are waiting for their retry (a full disk, a lost database)
-    status: !arena.accepting ? 'closing' : arena.drops.settlementsWaiting > 0 ? 'degraded' : 'ok',
-    engineVersion: ENGINE_VERSION,
-    engineVersions: ENGINE_VERSIONS,
-    store: arena.store.kind,
-    settlementsWaiting: arena.drops.settlementsWaiting,
-    tick: arena.scheduler.ticks,
-    rooms: arena.rooms.size
-  }))
+  }, async () => {
+    const { accepting, settlementsWaiting, store, tick, rooms } = health()
+    return {
+      // degraded: payouts the ledger refused are waiting for their retry (a full disk, a lost database)
+      status: !accepting ? 'closing' : settlementsWaiting > 0 ? 'degraded' : 'ok',
+      engineVersion: ENGINE_VERSION,
+      engineVersions: ENGINE_VERSIONS,
+      store,
+      settlementsWaiting,
+      tick,
+      rooms
+    }
+  })
 }

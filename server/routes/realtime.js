@@ -5,6 +5,9 @@ import { ERROR_CODES, GameError, gameError } from '../errors.js'
 import { TokenBucket } from '../ledger/token-bucket.js'
 import { IpLimits } from '../realtime/ip-limits.js'
 
+/** How often IPs with nothing open and full buckets are forgotten. */
+const IP_SWEEP_MS = 60_000
+
 /**
  * GET /ws?token=TOKEN: the game's WebSocket. Browsers cannot set headers
  * on a WebSocket, so the session token travels in the query string (it is
@@ -12,16 +15,24 @@ import { IpLimits } from '../realtime/ip-limits.js'
  * `{type:"error", code:"E_UNAUTHORIZED"}` and close code 4401, so browser
  * clients can tell why.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ * @param {object} services
+ * @param {import('../arena.js').Arena} services.arena the game each connection plays (join, leave, drop)
+ * @param {import('../store/ledger-store.js').LedgerStore} services.store
+ * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../config.js').Config} services.config
+ * @param {any} services.metrics
+ * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
-/** How often IPs with nothing open and full buckets are forgotten. */
-const IP_SWEEP_MS = 60_000
-
-export default async function realtimeRoutes (app, { arena, authGuard }) {
-  const { config, metrics } = arena
+export default async function realtimeRoutes (app, { arena, store, accounts, config, metrics, authGuard }) {
   const parseMessage = createMessageParser(config)
   /** Per client IP (request.ip: honours TRUST_PROXY): open sockets, drop and join buckets. And sockets in total. */
-  const ipLimits = new IpLimits({ dropRate: config.dropRatePerIp, joinRate: config.joinRatePerIp })
+  const ipLimits = new IpLimits({
+    dropRate: config.dropRatePerIp,
+    joinRate: config.joinRatePerIp,
+    messageRate: config.wsIpMessageRate,
+    byteRate: config.wsIpByteRate,
+    maxPayload: config.wsMaxPayload
+  })
   let open = 0
   const sweeper = setInterval(() => ipLimits.sweep(), IP_SWEEP_MS).unref()
   app.addHook('onClose', async () => clearInterval(sweeper))
@@ -61,8 +72,8 @@ export default async function realtimeRoutes (app, { arena, authGuard }) {
         connection.close(1001, 'E_UNAVAILABLE')
         return
       }
-      authenticate(arena, authGuard, ip, request.query.token).then((account) => {
-        if (!connection.authenticated(account) && account) arena.accounts.release(account)
+      authenticate({ store, accounts, authGuard }, ip, request.query.token).then((account) => {
+        if (!connection.authenticated(account) && account) accounts.release(account)
       }, (error) => {
         if (error instanceof GameError) {
           connection.sendError(error.code, error.message)
@@ -78,9 +89,9 @@ export default async function realtimeRoutes (app, { arena, authGuard }) {
 }
 
 /** The token's account, or null; a wrong token counts against the address, which may be blocked (E_RATE_LIMITED). */
-async function authenticate (arena, authGuard, ip, token) {
+async function authenticate ({ store, accounts, authGuard }, ip, token) {
   await authGuard.admit('player', ip)
-  const playerId = await playerIdForToken(arena.store, token)
+  const playerId = await playerIdForToken(store, token)
   if (!playerId && token !== undefined) await authGuard.failed('player', ip)
-  return playerId ? arena.accounts.acquire(playerId) : null
+  return playerId ? accounts.acquire(playerId) : null
 }

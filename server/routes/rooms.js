@@ -3,9 +3,9 @@ import { ROOM_IDS } from '../../protocol/room-id.js'
 /**
  * GET /api/rooms: rooms alive now, and every room id that can be joined.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena }} options
+ * @param {{ coordinator: import('../coordination/coordinator.js').Coordinator }} services
  */
-export default async function roomRoutes (app, { arena }) {
+export default async function roomRoutes (app, { coordinator }) {
   app.get('/api/rooms', {
     schema: {
       summary: 'Rooms alive now (created on first join, disposed when empty) and all joinable ids',
@@ -36,7 +36,7 @@ export default async function roomRoutes (app, { arena }) {
     }
   }, async () => ({
     // Clustered, the coordinator lists the rooms of every process.
-    rooms: await arena.coordinator.listRooms(),
+    rooms: await coordinator.listRooms(),
     roomIds: ROOM_IDS
   }))
 }

@@ -1,33 +1,43 @@
 import { requirePlayer } from '../auth.js'
-import { rotateServerSeed, setClientSeed } from '../fairness/seed-rotation.js'
 import { clientSeed, errors } from './schemas.js'
-import { gameError } from '../errors.js'
 
 const seedState = {
   type: 'object',
   properties: { clientSeed: { type: 'string' }, serverSeedHash: { type: 'string' }, nonce: { type: 'integer' } }
 }
 
+const rotationReply = {
+  type: 'object',
+  properties: { previousServerSeed: { type: 'string' }, previousServerSeedHash: { type: 'string' }, previousNonce: { type: 'integer' }, ...seedState.properties }
+}
+
+/** GET /api/seeds's reply: the active seed by its hash, the revealed ones in full. */
+function seedList (account, seeds) {
+  const active = seeds.find((seed) => seed.active)
+  return {
+    active: { serverSeedHash: account.seed.hash, clientSeed: account.clientSeed, nonce: account.seed.nextNonce, createdAt: active?.createdAt },
+    revealed: seeds.filter((seed) => !seed.active && seed.serverSeed !== null).map((seed) => ({
+      serverSeed: seed.serverSeed,
+      serverSeedHash: seed.serverSeedHash,
+      nonces: seed.nonce,
+      createdAt: seed.createdAt,
+      revealedAt: seed.revealedAt
+    }))
+  }
+}
+
 /**
  * The player's fairness seeds: list (the active one by hash only), rotate
  * (reveal the active seed, commit a new one) and set the client seed.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ * @param {object} services
+ * @param {import('../store/ledger-store.js').LedgerStore} services.store
+ * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../game/seed-changes.js').SeedChanges} services.seedChanges
+ * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
-export default async function seedRoutes (app, { arena, authGuard }) {
-  const { store } = arena
+export default async function seedRoutes (app, { store, accounts, seedChanges, authGuard }) {
   const asPlayer = requirePlayer(store, authGuard)
-
-  /** Holds the caller's account for the duration of `work`. */
-  async function withAccount (request, work) {
-    const account = await arena.accounts.acquire(request.playerId)
-    if (!account) throw gameError('E_UNAUTHORIZED', 'unknown player')
-    try {
-      return await work(account)
-    } finally {
-      arena.accounts.release(account)
-    }
-  }
 
   app.get('/api/seeds', {
     onRequest: asPlayer,
@@ -53,39 +63,15 @@ export default async function seedRoutes (app, { arena, authGuard }) {
         ...errors(401)
       }
     }
-  }, async (request) => withAccount(request, async (account) => {
-    const seeds = await store.listSeeds(account.playerId)
-    const active = seeds.find((seed) => seed.active)
-    return {
-      active: { serverSeedHash: account.seed.hash, clientSeed: account.clientSeed, nonce: account.seed.nextNonce, createdAt: active?.createdAt },
-      revealed: seeds.filter((seed) => !seed.active && seed.serverSeed !== null).map((seed) => ({
-        serverSeed: seed.serverSeed,
-        serverSeedHash: seed.serverSeedHash,
-        nonces: seed.nonce,
-        createdAt: seed.createdAt,
-        revealedAt: seed.revealedAt
-      }))
-    }
-  }))
+  }, async (request) => accounts.withAccount(request.playerId, async (account) => seedList(account, await store.listSeeds(account.playerId))))
 
   app.post('/api/seeds/rotate', {
     onRequest: asPlayer,
     schema: {
       summary: 'Reveal the active server seed and commit a new one',
-      response: {
-        200: {
-          type: 'object',
-          properties: {
-            previousServerSeed: { type: 'string' },
-            previousServerSeedHash: { type: 'string' },
-            previousNonce: { type: 'integer' },
-            ...seedState.properties
-          }
-        },
-        ...errors(401)
-      }
+      response: { 200: rotationReply, ...errors(401) }
     }
-  }, async (request) => withAccount(request, (account) => rotateServerSeed(arena, account)))
+  }, async (request) => accounts.withAccount(request.playerId, (account) => seedChanges.rotateServerSeed(account)))
 
   app.put('/api/seeds/client', {
     onRequest: asPlayer,
@@ -94,5 +80,5 @@ export default async function seedRoutes (app, { arena, authGuard }) {
       body: { type: 'object', properties: { clientSeed }, required: ['clientSeed'], additionalProperties: false },
       response: { 200: seedState, ...errors(400, 401) }
     }
-  }, async (request) => withAccount(request, (account) => setClientSeed(arena, account, request.body.clientSeed)))
+  }, async (request) => accounts.withAccount(request.playerId, (account) => seedChanges.setClientSeed(account, request.body.clientSeed)))
 }

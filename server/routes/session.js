@@ -2,7 +2,6 @@ import { createSession } from '../ledger/sessions.js'
 import { requirePlayer } from '../auth.js'
 import { toCredits } from '../game/money.js'
 import { errors } from './schemas.js'
-import { gameError } from '../errors.js'
 
 const sessionReply = {
   type: 'object',
@@ -34,10 +33,13 @@ const sessionBody = {
  * POST /api/session: a new guest player (play money) and its token.
  * GET /api/me: the caller's balance and fairness state.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ arena: import('../arena.js').Arena, authGuard: import('../limits/auth-guard.js').AuthGuard }} options
+ * @param {object} services
+ * @param {{ sessionRateLimit: number, startingBalance: number }} services.config
+ * @param {import('../store/ledger-store.js').LedgerStore} services.store
+ * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
-export default async function sessionRoutes (app, { arena, authGuard }) {
-  const { config, store } = arena
+export default async function sessionRoutes (app, { config, store, accounts, authGuard }) {
   app.post('/api/session', {
     config: { rateLimit: { max: config.sessionRateLimit, timeWindow: 60_000 } },
     schema: {
@@ -62,22 +64,16 @@ export default async function sessionRoutes (app, { arena, authGuard }) {
         ...errors(401)
       }
     }
-  }, async (request) => {
-    const account = await arena.accounts.acquire(request.playerId)
-    if (!account) throw gameError('E_UNAUTHORIZED', 'unknown player')
-    try {
-      const connection = [...account.connections].find((c) => c.room)
-      return {
-        playerId: account.playerId,
-        balance: toCredits(account.balance),
-        serverSeedHash: account.seed.hash,
-        clientSeed: account.clientSeed,
-        nonce: account.seed.nextNonce,
-        createdAt: new Date(account.createdAt).toISOString(),
-        room: connection?.room.id ?? null
-      }
-    } finally {
-      arena.accounts.release(account)
+  }, async (request) => accounts.withAccount(request.playerId, (account) => {
+    const connection = [...account.connections].find((c) => c.room)
+    return {
+      playerId: account.playerId,
+      balance: toCredits(account.balance),
+      serverSeedHash: account.seed.hash,
+      clientSeed: account.clientSeed,
+      nonce: account.seed.nextNonce,
+      createdAt: new Date(account.createdAt).toISOString(),
+      room: connection?.room.id ?? null
     }
-  })
+  }))
 }

@@ -25,6 +25,8 @@ export class DiskReserve {
     this.bytes = bytes
     this.now = now
     this._lastTry = -Infinity
+    /** @type {Promise<void> | null} a restore being written */
+    this._restoring = null
   }
 
   /** Whether the reserve file is there, whole. */
@@ -53,24 +55,37 @@ export class DiskReserve {
     return this.release()
   }
 
-  /** After a write that succeeded: makes the reserve (again) if it is missing and the disk has room. */
+  /**
+   * After a write that succeeded: makes the reserve (again) if it is missing
+   * and the disk has room, in the background (a 1 MiB write and its fsync
+   * never hold the event loop).
+   */
   restore () {
-    if (this.now() - this._lastTry < RESTORE_EVERY_MS) return
+    if (this._restoring || this.now() - this._lastTry < RESTORE_EVERY_MS) return
     this._lastTry = this.now()
     if (this.held || freeBytes(this.file) < 2 * this.bytes) return
+    this._restoring = this._write().finally(() => { this._restoring = null })
+  }
+
+  /** Waits for a restore in progress (the store's close: nothing of the ledger's stays open after it). */
+  async idle () {
+    await this._restoring
+  }
+
+  async _write () {
     const temp = `${this.file}.new`
     try {
-      const fd = fs.openSync(temp, 'w')
+      const handle = await fs.promises.open(temp, 'w')
       try {
         // Written, not sparse: the blocks must really be taken to be given back later.
-        fs.writeSync(fd, Buffer.alloc(this.bytes))
-        fs.fsyncSync(fd)
+        await handle.writeFile(Buffer.alloc(this.bytes))
+        await handle.sync()
       } finally {
-        fs.closeSync(fd)
+        await handle.close()
       }
-      fs.renameSync(temp, this.file)
+      await fs.promises.rename(temp, this.file)
     } catch {
-      fs.rmSync(temp, { force: true })
+      await fs.promises.rm(temp, { force: true })
     }
   }
 }

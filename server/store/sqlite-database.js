@@ -1,21 +1,80 @@
 import fs from 'node:fs'
 import path from 'node:path'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 
 /**
  * A connection to the ledger's SQLite file as every part of the store opens
- * it: WAL journal with synchronous=FULL (a committed transaction survives a
- * power cut), foreign keys on, and a busy timeout, since the store's
- * connection (reads, migrations) and its writer thread's take turns.
+ * it, on Node's own SQLite (`node:sqlite`, no native addon): WAL journal
+ * with synchronous=FULL (a committed transaction survives a power cut),
+ * foreign keys on, a 16 MB page cache, and a busy timeout, since the
+ * store's connection (reads, migrations) and its writer thread's take turns.
  * @param {string} file path or ':memory:'
  * @param {{ busyTimeoutMs?: number }} [options] how long a write waits for another connection's lock (default 5 s)
+ * @returns {DatabaseSync}
  */
 export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
-  if (file !== ':memory:') fs.mkdirSync(path.dirname(file), { recursive: true })
-  const db = new Database(file)
-  db.pragma('journal_mode = WAL')
-  db.pragma('synchronous = FULL')
-  db.pragma('foreign_keys = ON')
-  db.pragma(`busy_timeout = ${Math.trunc(busyTimeoutMs)}`)
+  if (file !== ':memory:') {
+    try {
+      fs.mkdirSync(path.dirname(file), { recursive: true })
+    } catch (error) {
+      throw new Error(`cannot create the SQLite ledger's directory ${path.dirname(file)}: ${error.message}`, { cause: error })
+    }
+  }
+  let db
+  try {
+    db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true })
+    db.exec('PRAGMA journal_mode = WAL')
+    db.exec('PRAGMA synchronous = FULL')
+    // Node's SQLite is built with a 2 MB page cache; the ledger's indexes
+    // (drops by player, time, room) outgrow it within minutes of play, and
+    // every commit then re-reads their pages: 16 MB per connection, as
+    // better-sqlite3 had (see docs/troubleshooting.md, the driver figures).
+    db.exec('PRAGMA cache_size = -16000')
+  } catch (error) {
+    db?.close()
+    throw cannotOpen(file, withSqliteCode(error))
+  }
   return db
+}
+
+/** Why a ledger did not open, with the path and what SQLite needs there. */
+function cannotOpen (file, error) {
+  const wanted = file === ':memory:' ? '' : `; SQLite must be able to write ${file} and create files in ${path.dirname(file)} (the WAL journal keeps ${path.basename(file)}-wal and -shm beside it)`
+  return Object.assign(new Error(`cannot open the SQLite ledger ${file}: ${error.message}${wanted}`, { cause: error }), { code: error.code })
+}
+
+/**
+ * Runs `work` in one transaction that takes the write lock up front
+ * (BEGIN IMMEDIATE: a busy database fails here, before anything is done)
+ * and commits it, or rolls it back and rethrows if anything in it throws.
+ * node:sqlite's errors carry SQLite's result code as a number (`errcode`);
+ * the one rethrown also has its name as `code` (SQLITE_BUSY, ...).
+ * @template T @param {DatabaseSync} db @param {() => T} work @returns {T}
+ */
+export function immediateTransaction (db, work) {
+  try {
+    db.exec('BEGIN IMMEDIATE')
+  } catch (error) {
+    throw withSqliteCode(error)
+  }
+  try {
+    const result = work()
+    db.exec('COMMIT')
+    return result
+  } catch (error) {
+    if (db.isTransaction) {
+      try { db.exec('ROLLBACK') } catch {} // SQLite may have rolled back already; the first error is the one to report
+    }
+    throw withSqliteCode(error)
+  }
+}
+
+/** SQLite's primary result codes the store tells apart (https://sqlite.org/rescode.html). */
+const RESULT_CODES = new Map([[5, 'SQLITE_BUSY'], [6, 'SQLITE_LOCKED'], [8, 'SQLITE_READONLY'], [13, 'SQLITE_FULL'], [14, 'SQLITE_CANTOPEN'], [19, 'SQLITE_CONSTRAINT']])
+
+/** The error, its `code` set to SQLite's name for its result code where it has one of RESULT_CODES. */
+function withSqliteCode (error) {
+  const name = typeof error?.errcode === 'number' ? RESULT_CODES.get(error.errcode & 0xff) : undefined
+  if (name) error.code = name
+  return error
 }

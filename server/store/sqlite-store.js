@@ -1,14 +1,14 @@
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
-import { openSqliteDatabase } from './sqlite-database.js'
+import { openSqliteDatabase, immediateTransaction } from './sqlite-database.js'
 import { prepareWrites } from './sqlite-writes.js'
 import { SqliteWriter } from './sqlite-writer.js'
 import { gameError } from '../errors.js'
 import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
 
 /**
- * The ledger on SQLite (better-sqlite3): WAL journal with synchronous=FULL,
+ * The ledger on SQLite (Node's `node:sqlite`): WAL journal with synchronous=FULL,
  * so a committed transaction survives a power cut. Every write (the tick's
  * batches, new players, seed rotations: sqlite-writes.js) runs on a writer
  * thread with its own connection (sqlite-writer.js), so the event loop never
@@ -38,7 +38,7 @@ export class SqliteStore {
     try {
       if (!this._writer) {
         this._writesHere ??= prepareWrites(this.db)
-        return this._writesHere[op].immediate(args)
+        return this._writesHere[op](args)
       }
       const result = await this._writer.run(op, args)
       this.reserve?.restore()
@@ -60,14 +60,14 @@ export class SqliteStore {
 
   async migrate () {
     this.db.exec(MIGRATIONS_TABLE)
-    const applied = new Set(this.db.prepare('SELECT version FROM schema_migrations').pluck().all())
+    const applied = new Set(this.db.prepare('SELECT version FROM schema_migrations').all().map((row) => row.version))
     for (const migration of MIGRATIONS) {
       if (applied.has(migration.version)) continue
-      this.db.transaction(() => {
+      immediateTransaction(this.db, () => {
         this.db.exec(migration.sql)
         this.db.prepare('INSERT INTO schema_migrations (version, name, applied_at) VALUES (?, ?, ?)')
           .run(migration.version, migration.name, Date.now())
-      }).immediate()
+      })
     }
   }
 
@@ -76,7 +76,7 @@ export class SqliteStore {
   }
 
   async findPlayerIdByTokenHash (tokenHash) {
-    return this._sql('SELECT id FROM players WHERE token_hash = ?').pluck().get(tokenHash) ?? null
+    return this._sql('SELECT id FROM players WHERE token_hash = ?').get(tokenHash)?.id ?? null
   }
 
   async loadAccount (playerId) {
@@ -104,7 +104,7 @@ export class SqliteStore {
 
   /** The server seed behind a drop, revealed or not: for the operator's checks only, never returned to anyone. */
   async getServerSeedOfDrop (id) {
-    return this._sql('SELECT s.seed FROM drops d JOIN server_seeds s ON s.id = d.server_seed_id WHERE d.id = ?').pluck().get(id) ?? null
+    return this._sql('SELECT s.seed FROM drops d JOIN server_seeds s ON s.id = d.server_seed_id WHERE d.id = ?').get(id)?.seed ?? null
   }
 
   async listDrops (filter) {
@@ -139,16 +139,17 @@ export class SqliteStore {
   async roomStats (room, engineVersion) {
     const buckets = this._sql(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
       FROM drops WHERE room = ? AND engine_version = ? AND status = 'settled' GROUP BY bucket ORDER BY bucket`).all(room, engineVersion)
-    const inFlight = this._sql("SELECT COUNT(*) FROM drops WHERE room = ? AND engine_version = ? AND status = 'in_flight'").pluck().get(room, engineVersion)
+    const { inFlight } = this._sql("SELECT COUNT(*) AS inFlight FROM drops WHERE room = ? AND engine_version = ? AND status = 'in_flight'").get(room, engineVersion)
     return statsFromRows(buckets, inFlight)
   }
 
   async maxDropId () {
-    return Number(this._sql('SELECT COALESCE(MAX(id), 0) FROM drops').pluck().get())
+    return Number(this._sql('SELECT COALESCE(MAX(id), 0) AS id FROM drops').get().id)
   }
 
   async close () {
     await this._writer?.close()
-    if (this.db.open) this.db.close()
+    await this.reserve?.idle()
+    if (this.db.isOpen) this.db.close()
   }
 }

@@ -29,7 +29,7 @@ parentPort.on('message', (message) => {
   }
   try {
     if (!WRITES.includes(message.op)) throw new Error(`no write ${message.op}`)
-    const result = writes[message.op].immediate(message.args)
+    const result = writes[message.op](message.args)
     parentPort.postMessage({ id: message.id, result })
   } catch (error) {
     parentPort.postMessage({ id: message.id, error: error.message, code: error.code })

@@ -44,7 +44,7 @@ describe('snapshot interpolation', () => {
         setTimeout(() => ws.send(message), random() * MAX_FRAME_DELAY_MS)
       })
     })
-    await page.goto(`${server.base}/`)
+    await page.goto(`${server.base}/?delivery=snapshots`)
     await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
     await page.evaluate(() => window.__plinko.startTrace())
     await page.fill('#auto-count', String(DROPS))

@@ -45,7 +45,7 @@ describe('player page defects (issue #12)', () => {
       const upstream = ws.connectToServer()
       upstream.onMessage((message) => { if (!silent) ws.send(message) })
     })
-    await page.goto(`${server.base}/`)
+    await page.goto(`${server.base}/?delivery=snapshots`)
     await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
     for (let i = 0; i < 3; i++) await page.click('#drop')
     await waitInPage(page, 'three balls drawn from snapshots', () => window.__plinko.history.length === 3 && window.__plinko.lastFrame.balls >= 3 && window.__plinko.snapshotChecks.positions > 10)

@@ -83,13 +83,14 @@ describe('player page in Chromium', () => {
       history: window.__plinko.history,
       balance: window.__plinko.balance,
       playerId: window.__plinko.playerId,
-      snapshotChecks: window.__plinko.snapshotChecks,
+      delivery: window.__plinko.delivery,
+      seeds: window.__plinko.seeds.room,
       timeline: window.__plinko.timeline,
       warnings: window.__plinko.warnings,
       summary: document.querySelector('#verify-summary').textContent,
       marks: [...document.querySelectorAll('#history .mark')].map((m) => m.className)
     }))
-    console.info(`[e2e] timeline ${JSON.stringify(result.timeline)}, snapshot checks ${JSON.stringify(result.snapshotChecks)}`)
+    console.info(`[e2e] clock ${JSON.stringify(result.timeline)}, seeds room ${JSON.stringify(result.seeds)}`)
 
     const mine = result.verifications.filter((v) => v.mine)
     expect(mine).toHaveLength(dropCount)
@@ -106,9 +107,10 @@ describe('player page in Chromium', () => {
     expect(result.marks.every((c) => c.includes('ok'))).toBe(true)
     expect(result.history.every((h) => h.bet === 25 && h.verified === true)).toBe(true)
 
-    // Every snapshot position the page received matched its own simulation (to the 0.5 px quantum).
-    expect(result.snapshotChecks.positions).toBeGreaterThan(100)
-    expect(result.snapshotChecks.mismatches).toBe(0)
+    // Seeds mode, the page's default: the room's desync checks all agreed with the page's simulation.
+    expect(result.delivery).toBe('seeds')
+    expect(result.seeds.checks).toBeGreaterThan(0)
+    expect(result.seeds.mismatches).toBe(0)
 
     // The same hashes reached another client, and are in the ledger.
     for (const v of mine) {

@@ -1,5 +1,5 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 import { storeBackend } from '../server/helpers/stores.js'
 import { startServer } from '../server/helpers/server.js'
 
@@ -29,7 +29,7 @@ afterAll(async () => {
 
 /** A second connection, as another process would hold it: BEGIN IMMEDIATE takes the write lock. */
 function holdWriteLock () {
-  lock = new Database(database.database.file)
+  lock = new DatabaseSync(database.database.file)
   lock.exec('BEGIN IMMEDIATE')
   return () => { lock.exec('ROLLBACK'); lock.close(); lock = null }
 }

@@ -142,6 +142,8 @@ describe.skipIf(!disk)('storage fault: SQLite on a full disk', () => {
     const fault = Date.now()
     const degraded = await until(async () => { const h = await health(port); return h.status === 'degraded' && h }, '/api/health to say degraded')
     expect(degraded.settlementsWaiting).toBeGreaterThan(0)
+    const waitingMetric = async () => Number(/^plinko_settlements_waiting (\d+)/m.exec(await (await fetch(`http://127.0.0.1:${port}/metrics`)).text())[1])
+    expect(await waitingMetric()).toBeGreaterThan(0)
     // A few seconds of fault: the retries keep failing meanwhile (far longer than 5 consecutive commits).
     await until(() => Date.now() - fault > 4000, 'the fault to last 4 s', 10_000)
     expect(settledCount(one)).toBeLessThan(BALLS)
@@ -151,6 +153,7 @@ describe.skipIf(!disk)('storage fault: SQLite on a full disk', () => {
     await until(() => settledCount(one) === BALLS, 'every payout after the space came back')
     console.info(`[storage-fault] ${BALLS} drops, disk full for ${freed - fault} ms: ${degraded.settlementsWaiting}+ payouts waited, all ${BALLS} paid ${Date.now() - freed} ms after the space came back, no restart`)
     expect(await health(port)).toMatchObject({ status: 'ok', settlementsWaiting: 0 })
+    expect(await waitingMetric()).toBe(0)
     expect(proc.output()).not.toMatch(/until restart/)
     await expectConsistentLedger(expect, backend, null, { playerIds, startingBalance: 100000 })
     // The reserve is made again once there is room (it was given to the retries).

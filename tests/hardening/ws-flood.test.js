@@ -1,27 +1,44 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { randomBytes } from 'node:crypto'
-import { mkdtempSync, rmSync } from 'node:fs'
-import net from 'node:net'
+import { mkdtempSync, readFileSync, rmSync } from 'node:fs'
 import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { startServerProcess } from '../../tools/server-process.js'
 import { GameClient } from '../server/helpers/game-client.js'
+import { floodInThread } from './helpers/flooders.js'
 
 /**
- * A frame flood (issue #14, item 2): raw sockets from one address that
- * never read and send small `ping` frames as fast as they can. Each gets
- * one E_RATE_LIMITED and is closed with 1008; the server stops reading it at
- * once and destroys it within DROP_GRACE_MS, so an honest player in a room
- * meanwhile sees every tick and every answer. Run the issue's 12 s with
- * PLINKO_FLOOD_SECONDS=12 (figures printed; the README quotes them).
+ * A frame flood (issue #14, item 2; issue #21, item 5): raw sockets from one
+ * address that never read and send `ping` frames (small, or padded to 4 KB)
+ * as fast as they can. Each gets one E_RATE_LIMITED and is closed with 1008;
+ * the server stops reading it at once and destroys it within DROP_GRACE_MS.
+ * The address's frame and byte budget (WS_IP_MESSAGE_RATE, WS_IP_BYTE_RATE)
+ * is shared by all its sockets, so how much of the flood the server handles
+ * before every flooder is cut off is bounded by it, however many sockets
+ * share it; an honest player on the same address (whose pings stay within
+ * its own socket's rate) meanwhile sees every tick and every answer. Run the
+ * issue's 12 s with PLINKO_FLOOD_SECONDS=12 (figures printed;
+ * docs/hardening.md quotes them).
  */
 const FLOOD_MS = Number(process.env.PLINKO_FLOOD_SECONDS ?? 3) * 1000
+const MAX_SOCKETS = 64
+/** The defaults (server/config.js), spelled out: the bound below is computed from them. */
+const IP_MESSAGE_RATE = 500
+const IP_BYTE_RATE = 262144
+/** Frames a socket may still send once its address's budget is spent if it never went past its own rate (ip-limits.js). */
+const QUIET_SLACK = 10
 const dir = mkdtempSync(join(tmpdir(), 'plinko-flood-'))
 let proc
 let port
 
 beforeAll(async () => {
-  proc = startServerProcess(`sqlite:${join(dir, 'ledger.sqlite')}`, { HTTP_RATE_LIMIT: '1000000', SESSION_RATE_LIMIT: '1000000', CLIENT_DIR: '/nonexistent/plinko-client' })
+  proc = startServerProcess(`sqlite:${join(dir, 'ledger.sqlite')}`, {
+    HTTP_RATE_LIMIT: '1000000',
+    SESSION_RATE_LIMIT: '1000000',
+    WS_MAX_CONNECTIONS_PER_IP: String(MAX_SOCKETS + 1),
+    WS_IP_MESSAGE_RATE: String(IP_MESSAGE_RATE),
+    WS_IP_BYTE_RATE: String(IP_BYTE_RATE),
+    CLIENT_DIR: '/nonexistent/plinko-client'
+  })
   port = await proc.port
 })
 afterAll(async () => {
@@ -34,53 +51,21 @@ async function session () {
   return (await fetch(`http://127.0.0.1:${port}/api/session`, { method: 'POST' })).json()
 }
 
-async function ticksDropped () {
+/** CPU seconds the server process has used (user + system, from /proc; NaN where there is none). */
+function serverCpuSeconds () {
+  try {
+    const fields = readFileSync(`/proc/${proc.child.pid}/stat`, 'utf8').split(') ')[1].split(' ')
+    return (Number(fields[11]) + Number(fields[12])) / 100
+  } catch {
+    return NaN
+  }
+}
+
+async function metrics () {
   const text = await (await fetch(`http://127.0.0.1:${port}/metrics`)).text()
-  return Number(/^plinko_ticks_dropped_total (\d+)/m.exec(text)[1])
-}
-
-/** One masked client text frame. */
-function frame (text) {
-  const payload = Buffer.from(text)
-  const mask = randomBytes(4)
-  const masked = Buffer.from(payload.map((b, i) => b ^ mask[i & 3]))
-  return Buffer.concat([Buffer.from([0x81, 0x80 | payload.length]), mask, masked])
-}
-
-/**
- * A flooder: upgrades with a token, never reads a byte of the reply, and
- * writes ping frames until the server cuts it off or `ms` pass. Resolves
- * with how long it lasted and how much it got to write.
- */
-function flooder (token, ms) {
-  return new Promise((resolve) => {
-    const socket = net.connect(port, '127.0.0.1')
-    const started = performance.now()
-    let written = 0
-    let done = false
-    const chunk = Buffer.concat(Array.from({ length: 512 }, () => frame('{"type":"ping"}')))
-    const finish = (how) => {
-      if (done) return
-      done = true
-      clearTimeout(timer)
-      socket.destroy()
-      resolve({ how, ms: performance.now() - started, bytes: written })
-    }
-    const timer = setTimeout(() => finish('still open'), ms)
-    socket.on('error', () => finish('closed by the server'))
-    socket.on('close', () => finish('closed by the server'))
-    socket.on('connect', () => {
-      socket.write(`GET /ws?token=${token} HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Version: 13\r\nSec-WebSocket-Key: ${randomBytes(16).toString('base64')}\r\n\r\n`)
-      socket.pause() // never reads
-      const pump = () => {
-        while (!done) {
-          written += chunk.length
-          if (!socket.write(chunk)) { socket.once('drain', pump); return }
-        }
-      }
-      setTimeout(pump, 50)
-    })
-  })
+  let handled = 0
+  for (const [, type, n] of text.matchAll(/^plinko_ws_messages_in_total\{type="([^"]+)"\} (\d+)/gm)) if (type !== 'rate_limited') handled += Number(n)
+  return { ticksDropped: Number(/^plinko_ticks_dropped_total (\d+)/m.exec(text)[1]), handled }
 }
 
 function percentile (values, p) {
@@ -88,14 +73,21 @@ function percentile (values, p) {
   return sorted[Math.min(sorted.length - 1, Math.floor(sorted.length * p))]
 }
 
-describe.each([4, 16])('a flood of %i sockets that never read', (sockets) => {
-  it('cuts every flooder off at once while an honest player keeps every tick and every answer', async () => {
+describe.each([
+  { sockets: 4, frameBytes: 15 },
+  { sockets: 16, frameBytes: 15 },
+  { sockets: 64, frameBytes: 15 },
+  { sockets: 16, frameBytes: 4000 }
+])('a flood of $sockets sockets that never read, $frameBytes-byte frames', ({ sockets, frameBytes }) => {
+  it('cuts every flooder off within the address\'s budget while an honest player keeps every tick and every answer', async () => {
     const honest = await GameClient.connect(`ws://127.0.0.1:${port}/ws?token=${(await session()).token}`)
     honest.send({ type: 'join', room: '16-medium' })
     await honest.take('joined')
-    const droppedBefore = await ticksDropped()
     const tokens = await Promise.all(Array.from({ length: sockets }, async () => (await session()).token))
-    const floods = tokens.map((token) => flooder(token, FLOOD_MS + 5000))
+    const before = await metrics()
+    const cpuBefore = serverCpuSeconds()
+    // On their own thread: pumping 64 sockets must not delay the honest player's own event loop here.
+    const floods = floodInThread({ port, tokens, ms: FLOOD_MS + 5000, frameBytes })
     // The honest player pings every 20 ms and drops a ball every 250 ms while the flood lasts.
     const rtts = []
     const drops = []
@@ -108,16 +100,26 @@ describe.each([4, 16])('a flood of %i sockets that never read', (sockets) => {
       if (i % 12 === 0) { honest.send({ type: 'drop', bet: 1, ref: `d${i}` }); drops.push(`d${i}`) }
       await new Promise((resolve) => setTimeout(resolve, 20))
     }
-    const results = await Promise.all(floods)
+    const results = await floods
+    const cpu = serverCpuSeconds() - cpuBefore
     for (const ref of drops) {
       const dropped = await honest.take((m) => m.type === 'dropped' && m.ref === ref)
       await honest.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
     }
-    const dropped = (await ticksDropped()) - droppedBefore
-    console.info(`[flood] ${sockets} sockets, ${FLOOD_MS / 1000} s: flooders cut off after ${results.map((r) => Math.round(r.ms)).join(', ')} ms ` +
+    const after = await metrics()
+    const dropped = after.ticksDropped - before.ticksDropped
+    // The honest player's own frames are in the count too.
+    const handled = after.handled - before.handled - rtts.length - drops.length
+    const cutOff = results.map((r) => Math.round(r.ms)).sort((a, b) => a - b)
+    console.info(`[flood] ${sockets} sockets × ${frameBytes}-byte frames, ${FLOOD_MS / 1000} s: flooders cut off after ${cutOff[0]}–${cutOff.at(-1)} ms, ${handled} of their frames handled, server CPU ${cpu.toFixed(2)} s ` +
       `(${Math.round(Math.max(...results.map((r) => r.bytes)) / 1024)} KB written at most); honest ping p50 ${percentile(rtts, 0.5).toFixed(1)} ms, ` +
       `p99 ${percentile(rtts, 0.99).toFixed(1)} ms, max ${Math.max(...rtts).toFixed(1)} ms over ${rtts.length} pings; ${dropped} ticks dropped; ${drops.length} drops settled`)
     for (const result of results) expect(result.how).toBe('closed by the server')
+    // However many sockets: no more than the address's burst (in frames and in bytes) and what refilled while
+    // the flooders lived, plus a few frames each.
+    const addressBurst = Math.min(2 * IP_MESSAGE_RATE, Math.ceil(2 * IP_BYTE_RATE / frameBytes))
+    const refilled = Math.min(IP_MESSAGE_RATE, IP_BYTE_RATE / frameBytes) * cutOff.at(-1) / 1000
+    expect(handled).toBeLessThanOrEqual(addressBurst + refilled + sockets * (frameBytes <= 1024 ? QUIET_SLACK + 1 : 1))
     expect(dropped).toBe(0)
     expect(honest.closeEvent).toBeNull()
     expect(honest.messages.some((m) => m.type === 'error')).toBe(false)

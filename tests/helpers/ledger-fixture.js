@@ -1,6 +1,6 @@
 import fs from 'node:fs'
 import { fileURLToPath } from 'node:url'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from '../../server/store/migrations.js'
 
@@ -31,11 +31,11 @@ export async function loadLedgerFixture (database, fixture) {
     fs.copyFileSync(fixture.sqliteFile, database.database.file)
     return
   }
-  const source = new Database(fixture.sqliteFile, { readonly: true })
+  const source = new DatabaseSync(fixture.sqliteFile, { readOnly: true })
   const client = new pg.Client({ connectionString: database.database.url })
   await client.connect()
   try {
-    const applied = new Set(source.prepare('SELECT version FROM schema_migrations').pluck().all())
+    const applied = new Set(source.prepare('SELECT version FROM schema_migrations').all().map((row) => row.version))
     await client.query(MIGRATIONS_TABLE)
     for (const migration of MIGRATIONS) if (applied.has(migration.version)) await client.query(migration.sql)
     for (const table of TABLES) {
@@ -61,7 +61,7 @@ export function fixturePlayers (fixture) {
 }
 
 function fixtureRows (fixture, sql) {
-  const source = new Database(fixture.sqliteFile, { readonly: true })
+  const source = new DatabaseSync(fixture.sqliteFile, { readOnly: true })
   try {
     return source.prepare(sql).all()
   } finally {

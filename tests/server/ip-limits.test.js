@@ -1,5 +1,6 @@
 import { describe, it, expect } from 'vitest'
-import { IpLimits } from '../../server/realtime/ip-limits.js'
+import { IpLimits, QUIET_SLACK } from '../../server/realtime/ip-limits.js'
+import { TokenBucket } from '../../server/ledger/token-bucket.js'
 
 describe('IpLimits', () => {
   it('shares one drop and join budget between the sockets of an address, each address on its own', () => {
@@ -34,5 +35,34 @@ describe('IpLimits', () => {
     expect(limits.openFrom('10.0.0.3')).toBe(0)
     expect(limits.acquire('10.0.0.3')).not.toBe(entry)
     expect(limits.sweep()).toBe(0) // open again: kept
+  })
+
+  it('budgets frames and bytes over all sockets of an address: past it only a quiet socket gets through', () => {
+    let now = 0
+    const limits = new IpLimits({ dropRate: 1, joinRate: 1, messageRate: 100, byteRate: 10_000, maxPayload: 4096, now: () => now })
+    const entry = limits.acquire('10.0.0.4')
+    const socket = () => new TokenBucket({ rate: 100, burst: 200, now: () => now })
+    /** Frames one socket gets through before it is refused, sending `size`-byte frames as fast as it can. */
+    const flood = (limiter, size, max = 1000) => {
+      let admitted = 0
+      while (admitted < max && limiter.take() && entry.admitFrame(size, limiter)) admitted++
+      return admitted
+    }
+    // Eight sockets at full speed share the address's 200 frames (two seconds' worth), plus a few each.
+    const admitted = Array.from({ length: 8 }, () => flood(socket(), 10))
+    expect(admitted.reduce((a, b) => a + b, 0)).toBe(200 + 7 * (QUIET_SLACK + 1))
+    // A quiet socket (never past its own rate) still gets its frames through.
+    const quiet = socket()
+    for (let i = 0; i < 50; i++) {
+      now += 20
+      expect(quiet.take() && entry.admitFrame(10, quiet)).toBe(true)
+    }
+    // Bytes: 20 KB (two seconds' worth) of 4 KB frames, then nothing more, quiet or not (a big frame never is).
+    now += 10_000
+    expect(flood(socket(), 4000)).toBe(5)
+    expect(flood(socket(), 4000)).toBe(0)
+    limits.release(entry)
+    now += 10_000
+    expect(limits.sweep()).toBe(1)
   })
 })

@@ -2,7 +2,7 @@ import { describe, it, expect, beforeEach, afterEach } from 'vitest'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
 import { WRITER_THREAD_NICE } from '../../server/store/sqlite-writer.js'
 
@@ -36,7 +36,7 @@ afterEach(async () => {
 const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: 0, createdAt: 2 })
 const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, nonces: [{ seedId: 's1', nextNonce: 100 }], clientSeeds: [] })
 /** Reads the file through a connection of its own, as another process would. */
-const read = (sql) => { const db = new Database(file, { readonly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
+const read = (sql) => { const db = new DatabaseSync(file, { readOnly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
 
 describe('SQLite writer thread', () => {
   it('commits on a thread of its own, durably: another connection sees the rows once the promise resolves', async () => {

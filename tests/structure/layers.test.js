@@ -33,9 +33,7 @@ const KNOWN_LONG = new Set([
   'loadtest/lean/lean-generator.js summarize',
   'loadtest/lean/lean-worker.js playWorkerPlan',
   'loadtest/lean/lean-worker.js play',
-  'server/app.js buildApp',
-  'server/routes/audit.js auditRoutes',
-  'server/routes/seeds.js seedRoutes'
+  'server/app.js buildApp'
 ])
 
 const folderOf = (specifier) => specifier.split('/')[0]

@@ -1,7 +1,7 @@
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import Database from 'better-sqlite3'
+import { DatabaseSync } from 'node:sqlite'
 import pg from 'pg'
 import { startPostgres } from '../../../tools/postgres-process.js'
 
@@ -31,10 +31,10 @@ function sqliteBackend () {
       return { url: `sqlite:${file}`, database: { kind: 'sqlite', file } }
     },
     async query (database, sql, params = []) {
-      const db = new Database(database.file)
+      const db = new DatabaseSync(database.file)
       try {
         const statement = db.prepare(sql.replace(/\$\d+/g, '?'))
-        return statement.reader ? statement.all(...params) : (statement.run(...params), [])
+        return statement.columns().length > 0 ? statement.all(...params) : (statement.run(...params), [])
       } finally {
         db.close()
       }

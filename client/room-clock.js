@@ -1,0 +1,95 @@
+/**
+ * The room's tick as the page estimates it, for a seeds-mode room: every
+ * ball is drawn at (render tick − its start tick), so this clock is the
+ * page's whole notion of "now" in the room.
+ *
+ * Every message that names a room tick (`joined`, a drop-events frame:
+ * a batch of other players' drops or a desync check alone) is an
+ * observation for the tick model (tick-model.js: fitted to the earliest
+ * arrivals, which were still one way old): the room's tick now is the
+ * model's plus half the socket's round trip.
+ *
+ * The page draws the room a little behind that: one way plus
+ * SETTLE_MARGIN_MS. A message the server sends as something happens then
+ * reaches the page before the page draws it happening, whatever the
+ * link: the player's own ball starts at the top of the board (its
+ * `dropped` comes after the drop's commit), and its `settled` (sent when
+ * it lands, after the payout's commit) is there when the ball lands on
+ * screen, so the result is revealed as it lands. Other players' drops,
+ * batched up to 1/EVENT_HZ, may still arrive after their start: they are
+ * fast-forwarded. The render tick advances by the frame time, slewed
+ * towards its target (tick-model.js advanceRenderTick): balls never jump
+ * or run backwards.
+ */
+import { TickModel, advanceRenderTick } from './tick-model.js'
+
+/** Observations come only when something happens (a few a second at most): a longer window than the snapshot timeline's. */
+const RATE_WINDOW_MS = 10_000
+const RATE_MAX_SAMPLES = 256
+const RATE_MIN_SAMPLES = 6
+/** Covers the server's commit of a drop or a payout before it announces it (a ledger batch). */
+export const SETTLE_MARGIN_MS = 100
+
+export class RoomClock {
+  /**
+   * @param {object} options
+   * @param {number} options.tickRate nominal ticks per second (the server's `tickRate`)
+   * @param {() => number | null} [options.rttMs] the socket's round-trip estimate (null: none yet)
+   */
+  constructor ({ tickRate, rttMs = () => null }) {
+    this.model = new TickModel({ tickRate, windowMs: RATE_WINDOW_MS, maxSamples: RATE_MAX_SAMPLES, minSamples: RATE_MIN_SAMPLES })
+    this.rttMs = rttMs
+    /** @type {number | null} the tick drawn last */
+    this.renderTick = null
+    this.lastFrameAt = null
+    this.stats = { observations: 0, snaps: 0 }
+  }
+
+  /** ticks per ms, as measured */
+  get rate () { return this.model.rate }
+  get jitterMs () { return this.model.jitterMs }
+
+  /**
+   * The room was at `tick` when it sent something that arrived at `now`.
+   * @param {number} tick @param {number} now ms (performance.now())
+   */
+  observe (tick, now) {
+    if (!Number.isFinite(tick) || !Number.isFinite(now)) return
+    this.stats.observations++
+    this.model.observe(tick, now)
+  }
+
+  /** The room's tick at `now` by the model (fractional), or null before any observation. @param {number} now ms */
+  estimateAt (now) {
+    const observed = this.model.tickAt(now)
+    if (observed === null) return null
+    return observed + ((this.rttMs() ?? 0) / 2) * this.model.rate
+  }
+
+  /** How far behind the room's tick the page draws (ms): one way, and the commit margin. */
+  get delayMs () {
+    return (this.rttMs() ?? 0) / 2 + SETTLE_MARGIN_MS
+  }
+
+  /**
+   * Advances the render tick to frame time `now` and returns it
+   * (fractional), or null before the first observation.
+   * @param {number} now ms
+   */
+  advance (now) {
+    const estimate = this.estimateAt(now)
+    if (estimate === null) return null
+    const target = estimate - this.delayMs * this.model.rate
+    const elapsed = this.lastFrameAt === null ? 0 : Math.max(0, now - this.lastFrameAt)
+    this.lastFrameAt = now
+    this.renderTick = advanceRenderTick(this.renderTick, target, elapsed, this.model.rate, this.stats)
+    return this.renderTick
+  }
+
+  /** Nothing to interpolate between in seeds mode: the shape of SnapshotTimeline.bracket(). */
+  bracket () {
+    return NO_SNAPSHOTS
+  }
+}
+
+const NO_SNAPSHOTS = Object.freeze({ a: null, b: null })

@@ -1,0 +1,75 @@
+/**
+ * The page's side of the seeds delivery mode (docs/protocol.md, "Seeds
+ * delivery"): which mode the page asks for, what a drop-events frame does
+ * to the room (its tick sets the clock, its drops go on the board, its
+ * flight hash is checked) and how a desync is reported.
+ *
+ * A socket in seeds mode gets no position frames: the page draws every
+ * ball from its own simulation (seeded-room.js). If the page's hash of the
+ * balls in flight ever differs from the server's, the page cannot trust
+ * what it draws for that room: it joins it again in snapshots mode, where
+ * the server's positions are drawn, and reports the desync
+ * (POST /api/client-errors) so that it is seen.
+ */
+import { decodeDropEvents } from '/protocol/drop-events-codec.js'
+import { apiRequest } from './api.js'
+
+export const DELIVERY_SEEDS = 'seeds'
+export const DELIVERY_SNAPSHOTS = 'snapshots'
+
+/**
+ * The mode the page asks for: seeds, unless the address says
+ * `?delivery=snapshots` (a thin client, a comparison, a test).
+ * @param {string} search location.search
+ */
+export function pageDelivery (search) {
+  return new URLSearchParams(search).get('delivery') === DELIVERY_SNAPSHOTS ? DELIVERY_SNAPSHOTS : DELIVERY_SEEDS
+}
+
+/**
+ * A binary frame on a seeds socket.
+ * @param {ArrayBuffer} frame @param {number} receivedAt ms
+ * @param {object} room
+ * @param {import('./seeded-room.js').SeededRoom} room.view
+ * @param {import('./room-clock.js').RoomClock} room.clock
+ * @param {(event: import('/protocol/drop-events-codec.js').DropEvent) => void} room.add puts a drop the view does not have yet on the board
+ * @returns {{ ok: boolean, tick: number, server: string, local: string, events: number } | null}
+ *   the desync check, or null: not a drop-events frame (a seeds socket should get no other)
+ */
+export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
+  const batch = decodeDropEvents(frame)
+  if (batch === null) return null
+  clock.observe(batch.tick, receivedAt)
+  // The batch may name drops the page has (its own `dropped`, `joined.balls`).
+  for (const event of batch.events) if (!view.has(event.dropId)) add(event)
+  return { ...view.check(batch.tick, batch.hash), events: batch.events.length }
+}
+
+/**
+ * Tells the server a room desynchronised on this page. Best effort: the
+ * page has already switched the room to snapshots, and a report that
+ * cannot be sent changes nothing for the player.
+ * @param {{ room: string, tick: number, server: string, local: string, ballsInFlight: number, engineVersion: string }} desync
+ * @param {string | null} token the session's
+ */
+export async function reportDesync (desync, token) {
+  try {
+    await apiRequest('POST', '/api/client-errors', {
+      token,
+      body: {
+        code: 'E_DESYNC',
+        message: `the page's flight hash at tick ${desync.tick} is ${desync.local}, the server's ${desync.server}`,
+        room: desync.room,
+        tick: desync.tick,
+        serverHash: desync.server,
+        localHash: desync.local,
+        ballsInFlight: desync.ballsInFlight,
+        engineVersion: desync.engineVersion,
+        page: 'player'
+      }
+    })
+    return true
+  } catch {
+    return false
+  }
+}
