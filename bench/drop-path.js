@@ -150,7 +150,9 @@ async function run (config) {
   const mainSplit = process.threadCpuUsage(mainSplitBefore)
   // The window on the monotonic clock, µs (a V8 CPU profile's startTime is on it): to cut a --cpu-prof to it.
   const window = [Number(windowStarted), Number(process.hrtime.bigint() / 1000n)]
-  const threads = otherThreadsCpu() - threadsBefore
+  const threadsAfter = otherThreadsCpu()
+  const threads = threadsAfter.micros - threadsBefore.micros
+  const threadNames = [...threadsAfter.byName].map(([name, micros]) => [name, (micros - (threadsBefore.byName.get(name) ?? 0)) / target])
   const processCpu = process.cpuUsage(processBefore)
   const settled = (await counterValue(metrics.settles)) - settledBefore
   const bytes = sumOf(players, (p) => p.socket.bytes) - bytesBefore
@@ -177,7 +179,7 @@ async function run (config) {
   const total = main + threads
   const figures = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
   if (options.json) {
-    console.log(JSON.stringify({ drops, settled, ticks: tick, window, perDrop: figures, totalPerDrop: total / drops, mainUserPerDrop: mainSplit.user / drops, mainSystemPerDrop: mainSplit.system / drops, processPerDrop: (processCpu.user + processCpu.system) / drops }))
+    console.log(JSON.stringify({ drops, settled, ticks: tick, window, perDrop: figures, totalPerDrop: total / drops, mainUserPerDrop: mainSplit.user / drops, mainSystemPerDrop: mainSplit.system / drops, otherThreadsPerDrop: Object.fromEntries(threadNames), processPerDrop: (processCpu.user + processCpu.system) / drops }))
     return
   }
   console.log(`\nDrop path: ${int(drops)} drops (${int(settled)} settled), ${options.rooms} rooms × ${options.perRoom} players, delivery ${options.delivery}, SQLite WAL + synchronous=FULL, one transaction per tick\n`)
@@ -190,7 +192,8 @@ async function run (config) {
       ['main thread: user / kernel', `${fixed(mainSplit.user / drops, 1)} / ${fixed(mainSplit.system / drops, 1)}`, '']
     ]
   ))
-  console.log(`\n${fixed(frames / drops, 2)} frames and ${int(bytes / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
+  console.log(`\nother threads by name, µs per drop: ${threadNames.map(([name, micros]) => `${name} ${fixed(micros, 1)}`).join(', ')}`)
+  console.log(`${fixed(frames / drops, 2)} frames and ${int(bytes / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
 }
 
 /** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */
@@ -211,13 +214,21 @@ function threadCpu (tid) {
   }
 }
 
-/** CPU µs of every thread of this process but the main one. */
+/** CPU µs of every thread of this process but the main one, in all and by thread name. */
 function otherThreadsCpu () {
+  const byName = new Map()
   let dir
-  try { dir = fs.readdirSync('/proc/self/task') } catch { return 0 }
+  try { dir = fs.readdirSync('/proc/self/task') } catch { return { micros: 0, byName } }
   let micros = 0
-  for (const tid of dir) if (Number(tid) !== process.pid) micros += threadCpu(tid)
-  return micros
+  for (const tid of dir) {
+    if (Number(tid) === process.pid) continue
+    const spent = threadCpu(tid)
+    micros += spent
+    let name = '?'
+    try { name = fs.readFileSync(`/proc/self/task/${tid}/comm`, 'utf8').trim() } catch {}
+    byName.set(name, (byName.get(name) ?? 0) + spent)
+  }
+  return { micros, byName }
 }
 
 async function counterValue (counter) {
