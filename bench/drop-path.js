@@ -71,11 +71,46 @@ await withBenchLedger({ DROP_RATE: '1000', DROP_BURST: '1000', WS_HEARTBEAT_MS: 
 async function run (config) {
   const store = await openStore(config.database)
   const metrics = createMetrics({ defaultMetrics: false })
-  const coordinator = new LocalCoordinator({ store, log: silentLog })
-  const arena = new Arena({ config, store, coordinator, metrics, log: silentLog })
+  const arena = new Arena({ config, store, coordinator: new LocalCoordinator({ store, log: silentLog }), metrics, log: silentLog })
   await arena.start()
   const parseMessage = createMessageParser(config)
+  const players = await seatPlayers(arena, store, config, metrics, parseMessage)
+  const clock = instrument(arena)
 
+  let accepted = 0
+  let tick = 0
+  const step = async () => {
+    clock.receiveStarts()
+    for (const player of players) {
+      if (accepted >= options.drops || (tick + player.phase) % DROP_EVERY_TICKS !== 0) continue
+      player.connection._receive(Buffer.from(`{"type":"drop","bet":1,"ref":${++player.refs}}`), false)
+      accepted++
+    }
+    clock.tickStarts()
+    arena.tick()
+    clock.tickEnded()
+    tick++
+    await arena.ledger.drain()
+  }
+
+  // Warm-up (WARMUP_TICKS, longer than a ball's flight): JIT, caches, the rooms' balls spread over their flight.
+  const target = options.drops
+  options.drops = Infinity
+  while (tick < WARMUP_TICKS) await step()
+  options.drops = target + accepted
+  clock.reset()
+  const before = await sample(metrics, players)
+  // Steady state: as many balls land in the window as are dropped, about.
+  while (accepted < options.drops) await step()
+  const after = await sample(metrics, players)
+  const spent = { ...clock.cpu }
+  await arena.close()
+  await store.close()
+  report({ drops: target, ticks: tick, before, after, spent, parse: parseTime(parseMessage, target) })
+}
+
+/** Players with their sessions, connections and rooms, `options.perRoom` in each of `options.rooms`. */
+async function seatPlayers (arena, store, config, metrics, parseMessage) {
   const players = []
   for (let r = 0; r < options.rooms; r++) {
     for (let p = 0; p < options.perRoom; p++) {
@@ -87,19 +122,28 @@ async function run (config) {
       players.push({ connection, socket, phase: players.length % DROP_EVERY_TICKS, refs: 0 })
     }
   }
+  return players
+}
 
-  // Each phase's main-thread CPU, charged by wrapping the real functions: a few clock reads per tick
-  // and per commit, none per socket (a read is a system call of its own).
+/**
+ * Each phase's CPU, charged by wrapping the real functions: a few clock
+ * reads per tick and per commit, none per socket (a read is a system call).
+ * process.cpuUsage, not threadCpuUsage: on Linux a thread's own clock
+ * (RUSAGE_THREAD) only advances at scheduler ticks and context switches,
+ * so short phases read 0 or a whole tick. The process clock is exact; it
+ * includes other threads, which in this loop are idle but while a commit
+ * runs: V8's helpers, and the writer's own tail after it answered, land in
+ * whichever phase runs then (mostly the next tick's receive and accept),
+ * a few µs per drop at 100 rooms, more with fewer drops per tick.
+ */
+function instrument (arena) {
   const cpu = { receive: 0, release: 0, physics: 0, handOver: 0, apply: 0, feeds: 0 }
-  // process.cpuUsage, not threadCpuUsage: on Linux a thread's own clock (RUSAGE_THREAD) only advances at
-  // scheduler ticks and context switches, so short phases read 0 or a whole tick. The process clock is exact;
-  // it includes other threads, which in this loop are idle but while a commit runs (after the hand-over).
   const now = () => { const u = process.cpuUsage(); return u.user + u.system }
-  const lifecycle = arena.drops
   for (const room of arena.rooms.values()) {
     const release = room.release.bind(room)
     room.release = (drop) => { const t = now(); release(drop); cpu.release += now() - t }
   }
+  const lifecycle = arena.drops
   const committed = lifecycle._committed.bind(lifecycle)
   lifecycle._committed = (...args) => { const t = now(); committed(...args); cpu.apply += now() - t }
   const ledger = arena.ledger
@@ -109,61 +153,42 @@ async function run (config) {
   // arena.tick: the rooms' steps, then ledger.flush() (only seals the batch: its commit runs after the
   // tick, timed above), then every room's delivery, the tally, idle rooms.
   const flush = ledger.flush.bind(ledger)
+  let receiveStarted = 0
   let tickStarted = 0
   let flushed = 0
   ledger.flush = () => { flushed = now(); cpu.physics += flushed - tickStarted; flush() }
-
-  let accepted = 0
-  let tick = 0
-  const step = async () => {
-    const receiveStarted = now()
-    for (const player of players) {
-      if (accepted >= options.drops || (tick + player.phase) % DROP_EVERY_TICKS !== 0) continue
-      player.connection._receive(Buffer.from(`{"type":"drop","bet":1,"ref":${++player.refs}}`), false)
-      accepted++
-    }
-    tickStarted = now()
-    cpu.receive += tickStarted - receiveStarted
-    arena.tick()
-    cpu.feeds += now() - flushed
-    tick++
-    await ledger.drain()
+  return {
+    cpu,
+    receiveStarts () { receiveStarted = now() },
+    tickStarts () { tickStarted = now(); cpu.receive += tickStarted - receiveStarted },
+    tickEnded () { cpu.feeds += now() - flushed },
+    reset () { for (const key in cpu) cpu[key] = 0 }
   }
+}
 
-  // Warm-up (WARMUP_TICKS, longer than a ball's flight): JIT, caches, the rooms' balls spread over their flight.
-  const target = options.drops
-  options.drops = Infinity
-  while (tick < WARMUP_TICKS) await step()
-  options.drops = target + accepted
-  for (const key in cpu) cpu[key] = 0
-  const settledBefore = await counterValue(metrics.settles)
-  const mainBefore = threadCpu(process.pid)
-  const mainSplitBefore = process.threadCpuUsage()
-  const windowStarted = process.hrtime.bigint() / 1000n
-  const threadsBefore = otherThreadsCpu()
-  const processBefore = process.cpuUsage()
-  const bytesBefore = sumOf(players, (p) => p.socket.bytes)
-  const framesBefore = sumOf(players, (p) => p.socket.frames)
-  // Steady state: as many balls land in the window as are dropped, about.
-  while (accepted < options.drops) await step()
-  const main = threadCpu(process.pid) - mainBefore
-  const mainSplit = process.threadCpuUsage(mainSplitBefore)
-  // The window on the monotonic clock, µs (a V8 CPU profile's startTime is on it): to cut a --cpu-prof to it.
-  const window = [Number(windowStarted), Number(process.hrtime.bigint() / 1000n)]
-  const threadsAfter = otherThreadsCpu()
-  const threads = threadsAfter.micros - threadsBefore.micros
-  const threadNames = [...threadsAfter.byName].map(([name, micros]) => [name, (micros - (threadsBefore.byName.get(name) ?? 0)) / target])
-  const processCpu = process.cpuUsage(processBefore)
-  const settled = (await counterValue(metrics.settles)) - settledBefore
-  const bytes = sumOf(players, (p) => p.socket.bytes) - bytesBefore
-  const frames = sumOf(players, (p) => p.socket.frames) - framesBefore
-  const spent = { ...cpu }
-  await arena.close()
-  await store.close()
+/** Every clock and counter the report compares, at one moment. */
+async function sample (metrics, players) {
+  return {
+    main: threadCpu(process.pid),
+    mainSplit: process.threadCpuUsage(),
+    // The window on the monotonic clock, µs (a V8 CPU profile's startTime is on it): to cut a --cpu-prof to it.
+    at: Number(process.hrtime.bigint() / 1000n),
+    threads: otherThreadsCpu(),
+    process: process.cpuUsage(),
+    settled: await counterValue(metrics.settles),
+    bytes: sumOf(players, (p) => p.socket.bytes),
+    frames: sumOf(players, (p) => p.socket.frames)
+  }
+}
 
-  const drops = target
-  // The receive loop's split: the parse and schema check alone, timed again on the same frames (a pure function).
-  const parse = parseTime(parseMessage, drops)
+function report ({ drops, ticks, before, after, spent, parse }) {
+  const main = after.main - before.main
+  const mainUser = (after.mainSplit.user - before.mainSplit.user) / drops
+  const mainSystem = (after.mainSplit.system - before.mainSplit.system) / drops
+  const threads = after.threads.micros - before.threads.micros
+  const threadNames = [...after.threads.byName].map(([name, micros]) => [name, (micros - (before.threads.byName.get(name) ?? 0)) / drops])
+  const processPerDrop = (after.process.user + after.process.system - before.process.user - before.process.system) / drops
+  const settled = after.settled - before.settled
   const parts = [
     ['receive: frame to message (UTF-8, JSON, schema)', parse],
     ['accept (limits, nonce, HMAC seed, reserve; ws stand-in)', spent.receive - parse - spent.release],
@@ -177,9 +202,9 @@ async function run (config) {
   parts.push(['main thread, other (microtasks, writer reply, GC)', main - named])
   parts.push(['other threads (SQLite writer, GC helpers)', threads])
   const total = main + threads
-  const figures = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
   if (options.json) {
-    console.log(JSON.stringify({ drops, settled, ticks: tick, window, perDrop: figures, totalPerDrop: total / drops, mainUserPerDrop: mainSplit.user / drops, mainSystemPerDrop: mainSplit.system / drops, otherThreadsPerDrop: Object.fromEntries(threadNames), processPerDrop: (processCpu.user + processCpu.system) / drops }))
+    const perDrop = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
+    console.log(JSON.stringify({ drops, settled, ticks, window: [before.at, after.at], perDrop, totalPerDrop: total / drops, mainUserPerDrop: mainUser, mainSystemPerDrop: mainSystem, otherThreadsPerDrop: Object.fromEntries(threadNames), processPerDrop }))
     return
   }
   console.log(`\nDrop path: ${int(drops)} drops (${int(settled)} settled), ${options.rooms} rooms × ${options.perRoom} players, delivery ${options.delivery}, SQLite WAL + synchronous=FULL, one transaction per tick\n`)
@@ -188,12 +213,12 @@ async function run (config) {
     [
       ...parts.map(([name, micros]) => [name, fixed(micros / drops, 1), `${fixed(100 * micros / total, 0)}%`]),
       ['in all (main thread + other threads)', fixed(total / drops, 1), '100%'],
-      ['process.cpuUsage, same window', fixed((processCpu.user + processCpu.system) / drops, 1), ''],
-      ['main thread: user / kernel', `${fixed(mainSplit.user / drops, 1)} / ${fixed(mainSplit.system / drops, 1)}`, '']
+      ['process.cpuUsage, same window', fixed(processPerDrop, 1), ''],
+      ['main thread: user / kernel', `${fixed(mainUser, 1)} / ${fixed(mainSystem, 1)}`, '']
     ]
   ))
   console.log(`\nother threads by name, µs per drop: ${threadNames.map(([name, micros]) => `${name} ${fixed(micros, 1)}`).join(', ')}`)
-  console.log(`${fixed(frames / drops, 2)} frames and ${int(bytes / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
+  console.log(`${fixed((after.frames - before.frames) / drops, 2)} frames and ${int((after.bytes - before.bytes) / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
 }
 
 /** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */
