@@ -19,6 +19,7 @@ import dropRoutes from './routes/drops.js'
 import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
+import engineSpecRoutes from './routes/engine-spec.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -158,6 +159,7 @@ export async function buildApp (config, options = {}) {
   await app.register(shareRoutes, { store })
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
+  await app.register(engineSpecRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
