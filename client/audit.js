@@ -1,10 +1,10 @@
 import { createBoard, simulateDrop, rtpStatistics, calibrationOf, isEngineVersion, ENGINE_VERSION, ENGINE_VERSIONS, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
 import { apiRequest, ApiError, query } from './api.js'
-import { byId, el, fill, formatAmount, formatMultiplier, shortHex } from './dom.js'
+import { byId, el, fill, formatAmount, formatMultiplier, exactAmount, exactMultiplier, formatLocalTime, amountTitle, multiplierTitle, shortHex } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
-import { payoutMilli, toCredits } from '/protocol/payout.js'
+import { payoutMilli, toCredits, toMilli } from '/protocol/payout.js'
 import { bucketChart, rtpChart, legend, CHART_COLORS } from './rtp-chart.js'
 
 /**
@@ -91,6 +91,7 @@ function showAuth (signedIn, message) {
   pill.dataset.status = signedIn ? 'open' : 'stopped'
   pill.textContent = signedIn ? 'operator' : 'signed out'
   byId('login-message').textContent = message
+  byId('sign-out').hidden = !signedIn
   byId('token').value = ''
   for (const section of document.querySelectorAll('.lookup, .player-drops, .stats')) section.toggleAttribute('inert', !signedIn)
 }
@@ -108,6 +109,12 @@ async function lookupById (id) {
   say(`Looking up drop #${id}…`)
   let audit
   try {
+    // Whether it exists first, from the list (a 200 either way): an unknown id is a message here, not a 404 in the console.
+    const { drops } = await operatorGet(`/api/audit/drops${query({ before: id + 1, limit: 1 })}`)
+    if (drops[0]?.id !== id) {
+      say(`Drop #${id}: no drop ${id} is recorded.`, 'error')
+      return null
+    }
     audit = await operatorGet(`/api/audit/drops/${id}`)
   } catch (error) {
     say(`Drop #${id}: ${error.message}`, 'error')
@@ -205,7 +212,7 @@ function record ({ dropId, drop, replay, browser, serverChecks, serverMatches, r
         ? 'MATCH — the stored record, the server\'s re-simulation and this browser\'s simulation agree'
         : settled ? 'MISMATCH — see the fields marked ✗' : 'IN FLIGHT — no outcome recorded yet')
     : (matches ? 'Server and browser agree on these seeds (no stored drop uses them)' : 'MISMATCH between server and browser')
-  const cell = (value) => el('td', { title: value === null || value === undefined ? '' : String(value), text: format(value) })
+  const cell = (value, field) => el('td', { title: value === null || value === undefined ? '' : String(value), text: format(value, field) })
   fill(byId('record'),
     el('div', { class: `banner ${matches ? 'ok' : 'bad'}`, id: 'match-banner', dataset: { matches: String(matches) }, text: banner }),
     drop ? el('p', { class: 'note', text: `Drop #${drop.id} · player ${drop.playerId} · room ${drop.room} · bet ${formatAmount(drop.bet)} · nonce ${drop.nonce} · client seed “${drop.clientSeed}” · ${drop.status} · created ${drop.createdAt}${drop.serverSeed ? '' : ' · server seed not revealed (the chain from the commitment is checked by the server only)'}` }) : null,
@@ -213,17 +220,19 @@ function record ({ dropId, drop, replay, browser, serverChecks, serverMatches, r
       el('table', { class: 'compare' },
         el('thead', {}, el('tr', {}, el('th', { text: 'field' }), el('th', { text: 'stored' }), el('th', { text: 'server re-sim' }), el('th', { text: 'browser' }), el('th', { text: '' }))),
         el('tbody', {}, ...rows.map((r) => el('tr', {},
-          el('td', { text: r.field }), cell(r.stored), cell(r.server), cell(r.browser),
+          el('td', { text: r.field }), cell(r.stored, r.field), cell(r.server, r.field), cell(r.browser, r.field),
           el('td', { class: r.agree === null ? '' : r.agree ? 'ok' : 'bad', text: r.agree === null ? '' : r.agree ? '✓' : '✗' })))))),
     recorded && recorded.length > 1 ? el('p', { class: 'note', text: `Stored drops with these seeds: ${recorded.map((r) => `#${r.id} (${r.matches ? 'matches' : 'differs'})`).join(', ')}` }) : null
   )
   return result
 }
 
-function format (value) {
+/** A compared value as the operator reads it: amounts as amounts (exact), multipliers with ×, long hex shortened. @param {any} value @param {string} [field] */
+function format (value, field) {
   if (value === null || value === undefined) return '–'
+  if (field === 'payout' || field === 'bet') return exactAmount(value)
+  if (field === 'multiplier') return exactMultiplier(value)
   if (typeof value === 'string' && value.length > 24) return shortHex(value, 10)
-  if (typeof value === 'number' && !Number.isInteger(value)) return formatMultiplier(value)
   return String(value)
 }
 
@@ -243,19 +252,75 @@ function showReplayState (p) {
 
 // ---- player's drops -----------------------------------------------------------
 
+/** The player list's date filter: local days, from the start of `from` to the end of `to` (ISO, for ?from=&to=). */
+function dateRange () {
+  const day = (id) => byId(id).value
+  const start = (value) => (value ? new Date(`${value}T00:00:00`) : null)
+  const from = start(day('player-from'))
+  const toDay = start(day('player-to'))
+  const to = toDay ? new Date(toDay.getTime() + 86_400_000 - 1) : null
+  return { from: from?.toISOString(), to: to?.toISOString() }
+}
+
 async function listPlayer (playerId) {
   if (!requireToken()) return
   const body = byId('player-drops')
+  const totals = byId('player-totals')
+  const note = (text) => { body.replaceChildren(el('tr', {}, el('td', { colspan: 8, class: 'note', text }))); totals.replaceChildren() }
   try {
-    const { drops } = await operatorGet(`/api/audit/drops${query({ player: playerId, limit: 200 })}`)
+    const { drops } = await operatorGet(`/api/audit/drops${query({ player: playerId, limit: 200, ...dateRange() })}`)
     body.replaceChildren(...drops.map((d) => el('tr', { class: 'clickable', dataset: { dropId: String(d.id) }, title: 'look up and replay', onclick: () => lookupById(d.id) },
       el('td', { text: `#${d.id}` }), el('td', { text: d.room }), el('td', { class: 'num', text: formatAmount(d.bet) }),
-      el('td', { class: 'num', text: d.bucket ?? '–' }), el('td', { class: 'num', text: formatAmount(d.payout) }),
-      el('td', { text: d.status }), el('td', { text: d.createdAt.replace('T', ' ').slice(0, 19) }))))
-    if (drops.length === 0) body.replaceChildren(el('tr', {}, el('td', { colspan: 7, class: 'note', text: 'No drops for this player.' })))
+      el('td', { class: 'num', text: d.multiplier === null ? '–' : formatMultiplier(d.multiplier), title: multiplierTitle(d.multiplier) }),
+      el('td', { class: 'num col-bucket', text: d.bucket ?? '–' }),
+      el('td', { class: 'num', text: formatAmount(d.payout), title: amountTitle(d.payout) }),
+      el('td', { class: 'col-status', text: d.status }),
+      el('td', { class: 'created', text: formatLocalTime(d.createdAt), title: `${d.createdAt} (UTC)` }))))
+    if (drops.length === 0) return note('No drops for this player in these dates.')
+    const settled = drops.filter((d) => d.status === 'settled')
+    const betMilli = drops.reduce((sum, d) => sum + toMilli(d.bet), 0)
+    const settledBetMilli = settled.reduce((sum, d) => sum + toMilli(d.bet), 0)
+    const paidMilli = settled.reduce((sum, d) => sum + toMilli(d.payout), 0)
+    const rtp = settledBetMilli > 0 ? `${(paidMilli / settledBetMilli * 100).toFixed(2)}%` : '–'
+    state.playerTotals = { drops: drops.length, settled: settled.length, bet: toCredits(betMilli), payout: toCredits(paidMilli), rtp }
+    totals.replaceChildren(el('tr', {},
+      el('th', { colspan: 2, text: `${drops.length} drop${drops.length === 1 ? '' : 's'}${drops.length === 200 ? ' (the latest 200)' : ''}` }),
+      el('th', { class: 'num', text: formatAmount(toCredits(betMilli)), title: amountTitle(toCredits(betMilli)) }),
+      el('th', { class: 'num', text: `RTP ${rtp}` }),
+      el('th', { class: 'col-bucket' }),
+      el('th', { class: 'num', text: formatAmount(toCredits(paidMilli)), title: amountTitle(toCredits(paidMilli)) }),
+      el('th', { colspan: 2, class: 'note', text: `${settled.length} settled` })))
   } catch (error) {
-    body.replaceChildren(el('tr', {}, el('td', { colspan: 7, class: 'note', text: error.message })))
+    note(error.message)
   }
+}
+
+/** The player's whole history (GET /api/audit/export, JSON lines), saved as a file. */
+async function exportPlayer (playerId) {
+  if (!requireToken()) return
+  const message = byId('player-message')
+  message.textContent = `Exporting the drops of ${playerId}…`
+  let response
+  try {
+    response = await fetch(`/api/audit/export${query({ player: playerId, format: 'ndjson' })}`, { headers: { authorization: `Bearer ${state.token}` }, cache: 'no-store' })
+  } catch (error) {
+    message.textContent = `Export failed: ${error.message}`
+    return
+  }
+  if (!response.ok) {
+    const reply = await response.json().catch(() => null)
+    message.textContent = `Export failed: ${reply?.message ?? response.statusText}`
+    return
+  }
+  const blob = await response.blob()
+  const lines = (await blob.text()).split('\n').filter((line) => line !== '').length
+  state.lastExport = { player: playerId, lines, bytes: blob.size }
+  const link = el('a', { href: URL.createObjectURL(blob), download: `drops-${playerId.replace(/[^\w.-]/g, '_')}.ndjson` })
+  document.body.append(link)
+  link.click()
+  link.remove()
+  setTimeout(() => URL.revokeObjectURL(link.href), 60_000)
+  message.textContent = `Exported ${lines} drop${lines === 1 ? '' : 's'} of ${playerId} (${formatAmount(blob.size)} bytes).`
 }
 
 // ---- room statistics ----------------------------------------------------------
@@ -376,6 +441,11 @@ function setUp () {
     const id = byId('player-id').value.trim()
     if (id) listPlayer(id)
   })
+  byId('player-export').addEventListener('click', () => {
+    const id = byId('player-id').value.trim()
+    if (id) exportPlayer(id)
+    else byId('player-message').textContent = 'Enter a player id to export.'
+  })
   byId('stats-form').addEventListener('submit', (event) => {
     event.preventDefault()
     showStats(`${byId('stats-rows').value}-${byId('stats-risk').value}`)
@@ -407,6 +477,8 @@ window.__audit = {
   get stats () { return state.stats.last },
   /** the RTP chart's points, the room's history first */
   get rtpSamples () { return state.stats.samples.map((s) => ({ ...s })) },
+  get playerTotals () { return state.playerTotals ?? null },
+  get lastExport () { return state.lastExport ?? null },
   get historyLoaded () { return state.stats.history ? state.stats.history.loaded : null },
   get frames () { return renderer.frames },
   lookupById,

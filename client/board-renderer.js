@@ -77,10 +77,17 @@ export class BoardRenderer {
     /** @type {{ bucket: number, start: number }[]} */
     this.bursts = []
     /** Effects started so far, by kind (for tests and the curious). */
-    this.effects = { pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0 }
+    /** floaterClearance: the least room (CSS px) between a floating payout and the bucket boxes below it, over every frame drawn (null: none yet) */
+    this.effects = { pegGlows: 0, bucketPops: 0, floaters: 0, bursts: 0, trails: 0, floaterClearance: null }
+    // prefers-reduced-motion: no glows, pops, floating payouts, bursts or trails (the balls and the board only).
+    const reduce = typeof matchMedia === 'function' ? matchMedia('(prefers-reduced-motion: reduce)') : null
+    this.reducedMotion = Boolean(reduce?.matches)
+    reduce?.addEventListener('change', (event) => { this.reducedMotion = event.matches })
     /** @type {string[]} the texts of the floating payouts shown, latest last (at most 50) */
     this.floaterTexts = []
     this._colors = []
+    /** @type {string[]} the label colour on each bucket (black or white: the one with more contrast) */
+    this._textColors = []
     this.frames = 0
     // Resizing the canvas resizes its container: do it on the next frame,
     // outside the observer's callback, so the observer never loops.
@@ -104,6 +111,7 @@ export class BoardRenderer {
     this.particles.length = 0
     this.bursts.length = 0
     this._colors = bucketColors(board.multipliers)
+    this._textColors = bucketTextColors(board.multipliers)
     this.resize()
   }
 
@@ -190,12 +198,14 @@ export class BoardRenderer {
 
   /** Bounces bucket `bucket` and pops its multiplier. @param {number} bucket @param {boolean} mine @param {number} now */
   flash (bucket, mine, now) {
+    if (this.reducedMotion) return
     this.flashes.push({ bucket, mine, start: now })
     this.effects.bucketPops++
   }
 
   /** A short glow on peg `peg` (index in board.pegs). @param {number} peg @param {boolean} mine @param {number} now */
   glowPeg (peg, mine, now) {
+    if (this.reducedMotion) return
     const glow = this.glows.find((g) => g.peg === peg)
     if (glow) {
       glow.start = now
@@ -212,7 +222,7 @@ export class BoardRenderer {
    */
   floatText (bucket, text, now, { big = false } = {}) {
     const board = this.board
-    if (!board) return
+    if (!board || this.reducedMotion) return
     const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
     this.floaters.push({ text, x, y: board.bucketLineY - 10 * unitOf(board), start: now, big, color: this._colors[bucket] ?? '#fff' })
     this.effects.floaters++
@@ -223,7 +233,7 @@ export class BoardRenderer {
   /** A big win: sparks burst from the bucket and the board glows in its colour. @param {number} bucket @param {number} now */
   celebrate (bucket, now) {
     const board = this.board
-    if (!board) return
+    if (!board || this.reducedMotion) return
     const u = unitOf(board)
     const x = board.bucketLeftX + (bucket + 0.5) * board.bucketWidth
     const y = board.bucketLineY
@@ -273,7 +283,7 @@ export class BoardRenderer {
     // Trails first, so no trail crosses a ball.
     ctx.lineCap = 'round'
     for (const pose of poses) {
-      if (!pose.trajectory || pose.alpha < 1) continue
+      if (this.reducedMotion || !pose.trajectory || pose.alpha < 1) continue
       const t = pose.trajectory
       const newest = Math.floor(pose.age)
       if (newest < 1) continue
@@ -283,6 +293,7 @@ export class BoardRenderer {
       ctx.moveTo(pose.x, pose.y)
       for (let i = newest; i >= Math.max(0, newest - TRAIL_TICKS); i--) ctx.lineTo(t[3 * i] + pose.ox, t[3 * i + 1] + pose.oy)
       ctx.stroke()
+      this.effects.trails++
     }
     for (const pose of poses) {
       ctx.globalAlpha = Math.max(0, Math.min(1, pose.alpha))
@@ -375,13 +386,21 @@ export class BoardRenderer {
     this.floaters = this.floaters.filter((f) => now - f.start < FLOAT_MS)
     for (const f of this.floaters) {
       const t = (now - f.start) / FLOAT_MS
-      const px = (f.big ? 22 : 14) * (1 + 0.15 * Math.sin(Math.min(1, t * 3) * Math.PI))
+      const base = f.big ? 22 : 14
+      const px = base * (1 + 0.15 * Math.sin(Math.min(1, t * 3) * Math.PI))
       ctx.font = `800 ${px / this.scale}px system-ui, sans-serif`
       ctx.textAlign = 'center'
       ctx.textBaseline = 'middle'
-      const y = f.y - (f.big ? 40 : 24) * u * easeOut(t)
+      const metrics = ctx.measureText(f.text)
+      // Start with the text's lowest point (at its largest) clear of the bucket boxes, so it never covers their labels.
+      const bucketTop = this.board.bucketLineY - BUCKET_TOP * u
+      const stroke = 1.5 / this.scale
+      const start = Math.min(f.y, bucketTop - 2 * u - metrics.actualBoundingBoxDescent * 1.15 * base / px - stroke)
+      const y = start - (f.big ? 40 : 24) * u * easeOut(t)
+      const clearance = (bucketTop - (y + metrics.actualBoundingBoxDescent + stroke)) * this.scale
+      this.effects.floaterClearance = Math.min(this.effects.floaterClearance ?? Infinity, clearance)
       // Keep the text on the board.
-      const half = ctx.measureText(f.text).width / 2
+      const half = metrics.width / 2
       const x = Math.max(half + 2 * u, Math.min(this.board.width - half - 2 * u, f.x))
       ctx.globalAlpha = t < 0.7 ? 1 : (1 - t) / 0.3
       ctx.lineWidth = 3 / this.scale
@@ -432,7 +451,7 @@ export class BoardRenderer {
     const text = formatMultiplier(board.multipliers[i])
     const scale = this.scale
     ctx.save()
-    ctx.fillStyle = '#1a1030'
+    ctx.fillStyle = this._textColors[i] ?? '#000'
     ctx.textAlign = 'center'
     ctx.textBaseline = 'middle'
     ctx.translate(x, y)
@@ -453,7 +472,7 @@ export class BoardRenderer {
     ctx.restore()
     if (pop === 1) {
       ctx.font = labelFont(px)
-      this.labels[i] = { text, px, width: ctx.measureText(text).width, room, upright: Boolean(this.upright) }
+      this.labels[i] = { text, px, width: ctx.measureText(text).width, room, upright: Boolean(this.upright), color: this._textColors[i], background: this._colors[i] }
     }
   }
 
@@ -510,15 +529,47 @@ export class BoardRenderer {
   }
 }
 
-/** Bucket colours from yellow (lowest multiplier) to red (highest), on a log scale. @param {number[]} multipliers */
-export function bucketColors (multipliers) {
+/** Each bucket's hue and lightness, from yellow (lowest multiplier) to red (highest), on a log scale. @param {number[]} multipliers */
+function bucketHues (multipliers) {
   const logs = multipliers.map((m) => Math.log(m))
   const min = Math.min(...logs)
   const span = Math.max(1e-9, Math.max(...logs) - min)
   return logs.map((value) => {
     const t = (value - min) / span
-    return `hsl(${Math.round(48 - 48 * t)}, 95%, ${Math.round(58 - 8 * t)}%)`
+    return { hue: Math.round(48 - 48 * t), lightness: Math.round(58 - 8 * t) }
   })
+}
+
+/** Bucket colours (CSS). @param {number[]} multipliers */
+export function bucketColors (multipliers) {
+  return bucketHues(multipliers).map(({ hue, lightness }) => `hsl(${hue}, 95%, ${lightness}%)`)
+}
+
+/**
+ * The text colour for each bucket's colour: black or white, whichever
+ * contrasts more (WCAG's relative luminance); on this palette either
+ * reaches 5:1 or more, where the old dark ink had 4.35:1 on the reds.
+ * @param {number[]} multipliers
+ */
+export function bucketTextColors (multipliers) {
+  return bucketHues(multipliers).map(({ hue, lightness }) => {
+    const l = relativeLuminance(hslToRgb(hue, 0.95, lightness / 100))
+    return (l + 0.05) / 0.05 >= 1.05 / (l + 0.05) ? '#000' : '#fff'
+  })
+}
+
+function hslToRgb (hue, saturation, lightness) {
+  const a = saturation * Math.min(lightness, 1 - lightness)
+  const channel = (n) => {
+    const k = (n + hue / 30) % 12
+    return lightness - a * Math.max(-1, Math.min(k - 3, 9 - k, 1))
+  }
+  return [channel(0), channel(8), channel(4)]
+}
+
+function relativeLuminance (rgb) {
+  const [r, g, b] = rgb.map((c) => (c <= 0.03928 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4))
+  return 0.2126 * r + 0.7152 * g + 0.0722 * b
 }
 
 function labelFont (px) {

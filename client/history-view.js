@@ -1,4 +1,4 @@
-import { el, formatAmount, formatMultiplier } from './dom.js'
+import { el, formatAmount, formatMultiplier, amountTitle, multiplierTitle } from './dom.js'
 
 /** Rows kept in the table; older drops stay in the ledger (GET /api/drops). */
 const MAX_ROWS = 100
@@ -88,8 +88,8 @@ export class HistoryView {
       el('td', { text: `#${entry.dropId}` }),
       el('td', { class: 'room', title: entry.room, text: roomLabel(entry.room) }),
       el('td', { class: 'num', text: formatAmount(entry.bet) }),
-      el('td', { class: 'num', text: entry.multiplier === null ? '–' : formatMultiplier(entry.multiplier) }),
-      el('td', { class: `num ${net === null ? '' : net >= 0 ? 'win' : 'loss'}`, text: settled ? formatAmount(entry.payout) : '–' }),
+      el('td', { class: 'num', text: entry.multiplier === null ? '–' : formatMultiplier(entry.multiplier), title: multiplierTitle(entry.multiplier) }),
+      el('td', { class: `num ${net === null ? '' : net >= 0 ? 'win' : 'loss'}`, text: settled ? formatAmount(entry.payout) : '–', title: settled ? amountTitle(entry.payout) : undefined }),
       el('td', { class: 'check' }, mark,
         entry.revealed
           ? el('button', { class: 'small verify-button', type: 'button', text: 'verify', title: 'recompute this drop from the revealed server seed', onclick: () => this.onVerify(entry.dropId) })

@@ -1,4 +1,4 @@
-import { el, formatAmount, formatMultiplier } from './dom.js'
+import { el, formatAmount, formatMultiplier, amountTitle, multiplierTitle } from './dom.js'
 
 /** Rows kept in the feed. */
 const MAX_ROWS = 30
@@ -36,8 +36,8 @@ export class LiveFeed {
     const row = el('tr', { class: [item.mine ? 'mine' : '', item.big ? 'big' : '', item.payout > item.bet ? 'up' : ''].join(' ').trim(), dataset: { dropId: String(item.dropId) } },
       el('td', { class: 'who', title: item.player, text: item.mine ? 'you' : shortPlayer(item.player) }),
       el('td', { class: 'num', text: formatAmount(item.bet) }),
-      el('td', { class: 'num', text: formatMultiplier(item.multiplier) }),
-      el('td', { class: `num ${item.payout > item.bet ? 'win' : 'loss'}`, text: formatAmount(item.payout) }))
+      el('td', { class: 'num', text: formatMultiplier(item.multiplier), title: multiplierTitle(item.multiplier) }),
+      el('td', { class: `num ${item.payout > item.bet ? 'win' : 'loss'}`, text: formatAmount(item.payout), title: amountTitle(item.payout) }))
     this.body.prepend(row)
     while (this.entries.length > MAX_ROWS) {
       const old = this.entries.pop()

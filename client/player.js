@@ -1,6 +1,6 @@
 import { ENGINE_VERSION, isEngineVersion } from '/engine/index.js'
 import { apiRequest } from './api.js'
-import { byId, el, formatAmount, formatSigned, shortHex } from './dom.js'
+import { byId, el, formatAmount, formatSigned, shortHex, showAmount } from './dom.js'
 import { Session } from './session.js'
 import { GameSocket, CLOSE_UNAUTHORIZED } from './game-socket.js'
 import { decodeSnapshot, splitRoomFrame } from '/protocol/snapshot-codec.js'
@@ -9,12 +9,12 @@ import { socketUrl } from './socket-url.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { DropVerifier } from './drop-verifier.js'
-import { BoardRenderer, bucketColors } from './board-renderer.js'
+import { BoardRenderer, bucketColors, bucketTextColors } from './board-renderer.js'
 import { HistoryView } from './history-view.js'
 import { FairnessPanel } from './fairness-panel.js'
 import { pegRowCount } from './peg-contacts.js'
 import { Sound } from './sound.js'
-import { AutoBet, clampBet } from './auto-bet.js'
+import { AutoBet, clampBet, STOP_RULE } from './auto-bet.js'
 import { SessionStats } from './session-stats.js'
 import { LiveFeed, BIG_WIN } from './live-feed.js'
 import { ResultsStrip } from './results-strip.js'
@@ -22,6 +22,8 @@ import { RecallView } from './recall-view.js'
 import { SeededRoom } from './seeded-room.js'
 import { RoomClock } from './room-clock.js'
 import { pageDelivery, applyDropEvents, reportDesync, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
+import { SessionHistory } from './session-history.js'
+import { Announcer } from './announcer.js'
 
 /**
  * The player's page: connects with the guest session, joins the chosen
@@ -45,12 +47,14 @@ const FLOAT_WIN = 2
 const LATE_RESULT_MS = 1000
 /** How often the room's player count is asked for (GET /api/rooms). */
 const PLAYERS_EVERY_MS = 4000
+/** Drops in the history table (GET /api/drops?limit=). */
+const HISTORY_LIMIT = 50
 
 const session = new Session()
 const verifier = new DropVerifier()
-const renderer = new BoardRenderer(byId('board'))
+const renderer = new BoardRenderer(byId('board'), { maxHeight: boardMaxHeight })
 const history = new HistoryView(byId('history'),
-  (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: 'smooth' })),
+  (dropId) => fairness.verifyDrop(dropId).then(() => byId('fairness').scrollIntoView({ behavior: renderer.reducedMotion ? 'auto' : 'smooth' })),
   (dropId) => recall.open(dropId))
 const fairness = new FairnessPanel({ session, onRotated: () => loadHistory(), say })
 const recall = new RecallView({ session, verifier })
@@ -58,6 +62,8 @@ const sound = new Sound()
 const stats = new SessionStats({ wagered: byId('stat-wagered'), profit: byId('stat-profit'), drops: byId('stat-drops'), best: byId('stat-best'), chart: byId('profit-chart') })
 const feed = new LiveFeed(byId('feed'))
 const recent = new ResultsStrip(byId('recent'))
+const sessionHistory = new SessionHistory(session)
+const announcer = new Announcer(byId('announcer'))
 const snapshotChecks = { positions: 0, mismatches: 0, unknown: 0 }
 
 const state = {
@@ -238,7 +244,7 @@ function onError (message) {
   if (typeof message.ref !== 'string' || !run || !run.refs.has(message.ref)) return
   // A refused auto-drop: try that ball again later, or stop when retrying cannot help.
   if (run.running && (message.code === 'E_RATE_LIMITED' || message.code === 'E_ROOM_FULL' || message.code === 'E_SEED_ROTATING')) {
-    run.retry()
+    run.retry(message.ref)
     renderAutoButton()
   } else {
     stopAuto(message.code === 'E_INSUFFICIENT_FUNDS' ? 'balance' : 'refused', message.code)
@@ -255,18 +261,53 @@ function onError (message) {
  */
 function reveal (settled, live) {
   if (state.revealed.has(settled.dropId) || !state.ownDrops.has(settled.dropId)) return
-  state.revealed.add(settled.dropId)
   state.settledUnseen.delete(settled.dropId)
-  const parsed = parseRoomId(settled.room)
-  const engineVersion = state.view?.drops.get(settled.dropId)?.engineVersion
-  const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
-  const colors = board ? bucketColors(board.multipliers) : []
-  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf' })
-  stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
+  showResult(settled, state.view?.drops.get(settled.dropId)?.engineVersion, true)
+  announcer.result(settled)
   if (!live || settled.room !== state.joinedRoom) return
   const now = performance.now()
   if (settled.multiplier >= FLOAT_WIN) renderer.floatText(settled.bucket, `+${formatAmount(settled.payout)}`, now, { big: settled.multiplier >= BIG_WIN })
   if (settled.multiplier >= BIG_WIN) renderer.celebrate(settled.bucket, now)
+}
+
+/**
+ * A result into the strip and (`counted`) the session stats, once.
+ * @param {{ dropId: number, room: string, bet: number, payout: number, multiplier: number, bucket: number }} settled
+ * @param {string} [engineVersion] @param {boolean} counted
+ */
+function showResult (settled, engineVersion, counted) {
+  state.revealed.add(settled.dropId)
+  const parsed = parseRoomId(settled.room)
+  const board = parsed ? verifier.board(parsed.rows, parsed.risk, engineVersion) : null
+  const colors = board ? bucketColors(board.multipliers) : []
+  const textColors = board ? bucketTextColors(board.multipliers) : []
+  recent.add({ dropId: settled.dropId, multiplier: settled.multiplier, bucket: settled.bucket, color: colors[settled.bucket] ?? '#98a3cf', textColor: textColors[settled.bucket] })
+  if (counted) stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
+}
+
+/**
+ * After a reload: this tab session's results back into the strip and the
+ * session stats, from the server's history; its drops still falling are
+ * the page's own again, so their results show when they settle.
+ */
+async function restoreSession (playerId, firstPage) {
+  try {
+    const { drops, statsAfter } = await sessionHistory.load(playerId, await firstPage)
+    for (const record of drops) {
+      if (state.revealed.has(record.id)) continue
+      if (record.status !== 'settled') { state.ownDrops.add(record.id); continue }
+      showResult({ dropId: record.id, room: record.room, bet: record.bet, payout: record.payout, multiplier: record.multiplier, bucket: record.bucket }, record.engineVersion, record.id > statsAfter)
+    }
+  } catch (error) {
+    say(`Could not load this session's results: ${error.message}`, 'error')
+  }
+}
+
+function resetSession () {
+  stats.reset()
+  let newest = 0
+  for (const id of state.revealed) newest = Math.max(newest, id)
+  sessionHistory.resetStats(newest)
 }
 
 function addToFeed (settled) {
@@ -419,7 +460,8 @@ function autoRules () {
   const stopProfit = optional('auto-stop-profit')
   const stopLoss = optional('auto-stop-loss')
   const rule = (modeId, percentId) => ({ mode: byId(modeId).value === 'increase' ? 'increase' : 'reset', percent: Number(byId(percentId).value) || 0 })
-  const rules = { count, baseBet, stopProfit, stopLoss, onWin: rule('auto-on-win', 'auto-win-percent'), onLoss: rule('auto-on-loss', 'auto-loss-percent') }
+  const guard = /** @type {HTMLInputElement} */ (byId('auto-guard')).checked
+  const rules = { count, baseBet, stopProfit, stopLoss, guard, onWin: rule('auto-on-win', 'auto-win-percent'), onLoss: rule('auto-on-loss', 'auto-loss-percent') }
   if (!Number.isSafeInteger(count) || count < 1) return say('Auto-bet needs a number of bets (1 or more).', 'error')
   if (!Number.isSafeInteger(baseBet) || baseBet < state.minBet || baseBet > state.maxBet) return say(`The bet must be a whole number from ${state.minBet} to ${formatAmount(state.maxBet)}.`, 'error')
   for (const limit of [stopProfit, stopLoss]) if (limit !== null && !(limit > 0)) return say('Stop on profit and stop on loss are amounts above 0 (or empty: off).', 'error')
@@ -440,7 +482,7 @@ function resumeAuto () {
   const run = state.autoRun
   if (!run || run.stopReason !== 'disconnected' || run.remaining <= 0) return
   if (!state.joinedRoom) return say('Still not connected: the auto-bet can resume once the page is back in its room.', 'error')
-  run.stopReason = null
+  run.resume()
   say(`Auto-bet resumed: ${run.remaining} bets left.`)
   runAuto()
 }
@@ -451,9 +493,12 @@ function runAuto () {
     if (!run.running) return stopAuto(run.stopReason)
     const bet = run.nextBet(state.balance)
     if (bet === null) return stopAuto('balance')
+    const guard = run.guardBet(bet)
+    if (guard === 'stop') return stopAuto('guard')
+    if (guard === 'wait') return showAutoStatus()
     const ref = `auto-${++state.refs}`
     if (!drop(ref, bet)) return stopAuto(state.joinedRoom ? 'refused' : 'disconnected')
-    run.markSent(ref)
+    run.markSent(ref, bet)
     renderAutoButton()
     if (!run.running) stopAuto(run.stopReason)
     else showAutoStatus()
@@ -467,7 +512,7 @@ function runAuto () {
 function onAutoResult (settled) {
   const run = state.autoRun
   if (!run || !run.dropIds.has(settled.dropId)) return
-  const stopped = run.result({ bet: settled.bet, payout: settled.payout })
+  const stopped = run.result({ bet: settled.bet, payout: settled.payout, dropId: settled.dropId })
   if (stopped) stopAuto(stopped)
   else showAutoStatus()
 }
@@ -480,20 +525,30 @@ function stopAuto (reason = 'stopped', detail) {
   if (run) {
     run.stop(reason)
     if (detail) run.detail = detail
-    if (run.stopReason !== 'done') say(AUTO_STOPS[run.stopReason](run), 'error')
   }
   renderAutoButton()
   showAutoStatus()
 }
 
+/** Why a run stopped sending, with where it stood then (`run.stoppedAt`). */
 const AUTO_STOPS = {
-  done: (run) => `Auto-bet finished: ${run.sent} bets sent, profit ${formatSigned(run.profit)} so far.`,
-  profit: (run) => `Auto-bet stopped: the profit of ${formatSigned(run.profit)} reached the stop on profit.`,
-  loss: (run) => `Auto-bet stopped: the loss of ${formatAmount(-run.profit)} reached the stop on loss.`,
-  balance: () => 'Auto-bet stopped: the balance does not cover the bet.',
-  disconnected: (run) => `Auto-bet stopped: the connection was lost after ${run.sent} of ${run.rules.count} bets.`,
-  refused: (run) => `Auto-bet stopped: a drop was refused${run.detail ? ` (${run.detail})` : ''}.`,
-  stopped: (run) => `Auto-bet stopped after ${run.sent} of ${run.rules.count} bets.`
+  done: (run, at) => `Auto-bet sent all ${at.sent} bets.`,
+  profit: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the stop on profit of ${formatAmount(run.rules.stopProfit)} was reached.`,
+  loss: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the stop on loss of ${formatAmount(run.rules.stopLoss)} was reached.`,
+  guard: (run, at) => `Auto-bet stopped sending at ${formatSigned(at.profit)}: the next bet of ${formatAmount(run.bet)} could take the loss past the stop on loss of ${formatAmount(run.rules.stopLoss)}.`,
+  balance: (run, at) => `Auto-bet stopped after ${at.sent} bets: the balance does not cover the bet.`,
+  disconnected: (run, at) => `Auto-bet stopped: the connection was lost after ${at.sent} of ${run.rules.count} bets.`,
+  refused: (run, at) => `Auto-bet stopped after ${at.sent} bets: a drop was refused${run.detail ? ` (${run.detail})` : ''}.`,
+  stopped: (run, at) => `Auto-bet stopped after ${at.sent} of ${run.rules.count} bets.`
+}
+
+/** The run's status: while sending, its progress; once stopped, why and where, then one final result once its last ball has landed. */
+function autoStatusText (run) {
+  if (run.running) return `Auto-bet: ${run.sent} of ${run.rules.count} sent, next bet ${formatAmount(run.bet)}, profit ${formatSigned(run.profit)}${run.inFlight > 0 ? ` (${run.inFlight} falling)` : ''}.`
+  const why = AUTO_STOPS[run.stopReason](run, run.stoppedAt ?? { profit: run.profit, sent: run.sent, settled: run.settled })
+  if (!run.finished) return `${why} ${run.inFlight} ball${run.inFlight === 1 ? '' : 's'} still falling: the final result follows when ${run.inFlight === 1 ? 'it lands' : 'they land'}.`
+  const late = run.settled - (run.stoppedAt?.settled ?? run.settled)
+  return `${why} Final result: ${formatSigned(run.profit)} over ${run.settled} bet${run.settled === 1 ? '' : 's'}${late > 0 ? `, counting the ${late} ball${late === 1 ? '' : 's'} still falling when it stopped` : ''}.`
 }
 
 function showAutoStatus () {
@@ -501,10 +556,12 @@ function showAutoStatus () {
   const box = byId('auto-status')
   if (!run) { box.hidden = true; return }
   box.hidden = false
-  box.dataset.state = run.running ? 'running' : run.stopReason
-  byId('auto-status-text').textContent = run.running
-    ? `Auto-bet: ${run.sent} of ${run.rules.count} sent, next bet ${formatAmount(run.bet)}, profit ${formatSigned(run.profit)}.`
-    : AUTO_STOPS[run.stopReason](run)
+  box.dataset.state = run.running ? 'running' : run.finished ? 'finished' : run.stopReason
+  byId('auto-status-text').textContent = autoStatusText(run)
+  if (run.finished && !run.announced) {
+    run.announced = true
+    announcer.say(autoStatusText(run))
+  }
   const resumable = run.stopReason === 'disconnected' && run.remaining > 0
   const resume = byId('auto-resume')
   resume.hidden = !resumable
@@ -535,14 +592,16 @@ function changeBet (how) {
   if (how === 'double' && clamped !== null && clamped < next) say(`The bet is capped at ${formatAmount(clamped)} (${clamped === state.maxBet ? 'the table limit' : 'your balance'}).`)
 }
 
-async function loadHistory () {
+/** @param {Promise<{ drops: any[] }>} [page] the newest drops, if read already */
+async function loadHistory (page) {
   if (!session.token) return
   try {
-    const { drops } = await session.request('GET', '/api/drops?limit=50')
+    const { drops } = await (page ?? session.request('GET', `/api/drops?limit=${HISTORY_LIMIT}`))
     for (const record of drops.slice().reverse()) {
       // Settled while this page was away (a reconnect): its result is final, and shown now.
       if (record.status === 'settled' && state.ownDrops.has(record.id) && !state.revealed.has(record.id) && !state.view?.drops.has(record.id)) {
         reveal({ dropId: record.id, room: record.room, bet: record.bet, multiplier: record.multiplier, payout: record.payout, bucket: record.bucket }, false)
+        onAutoResult({ dropId: record.id, bet: record.bet, payout: record.payout })
       }
       const verification = verifier.settleFromRecord(record)
       if (verification && !verification.verified) warnMismatch(verification)
@@ -565,7 +624,7 @@ async function loadHistory () {
 
 function setBalance (balance) {
   state.balance = balance
-  byId('balance').textContent = formatAmount(balance)
+  showAmount(byId('balance'), balance)
 }
 
 function say (text, kind = 'info') {
@@ -676,6 +735,15 @@ function onLanding (landing, now) {
 
 // ---- set-up -------------------------------------------------------------
 
+/**
+ * The tallest the board may be (CSS px), as the stylesheet's
+ * --board-max-height: on a wide screen the window's height less the
+ * header and margins (5.5rem), so the board fills the stage; else 72% of it.
+ */
+function boardMaxHeight () {
+  return matchMedia('(min-width: 900px)').matches ? window.innerHeight - 5.5 * 16 : window.innerHeight * 0.72
+}
+
 function initialRoom () {
   const stored = localStorage.getItem(ROOM_KEY)
   return parseRoomId(stored) ? stored : roomIdOf(16, 'medium')
@@ -705,9 +773,10 @@ function setUpControls () {
   }
   byId('drop').addEventListener('click', () => drop())
   byId('board').addEventListener('click', () => drop())
+  byId('auto-rule').textContent = STOP_RULE
   byId('auto').addEventListener('click', toggleAuto)
   byId('auto-resume').addEventListener('click', resumeAuto)
-  byId('session-reset').addEventListener('click', () => stats.reset())
+  byId('session-reset').addEventListener('click', resetSession)
   const mute = byId('mute')
   const showMute = () => {
     mute.setAttribute('aria-pressed', String(sound.muted))
@@ -718,8 +787,10 @@ function setUpControls () {
   mute.addEventListener('click', toggleMute)
   showMute()
 
-  // Keys: Space drops (also from the bet field: a number field types no space),
-  // S halves, D doubles, A starts or stops the auto-bet, M mutes; none while typing text.
+  // Keys: Space drops, S halves, D doubles, A starts or stops the auto-bet,
+  // M mutes; none while typing text. Space belongs to a focused control
+  // (a button presses, a summary opens): it drops only when nothing
+  // interactive has focus, or the Drop button has it.
   const keys = {
     Space: () => drop(),
     KeyS: () => changeBet('half'),
@@ -730,13 +801,21 @@ function setUpControls () {
   document.addEventListener('keydown', (event) => {
     const action = keys[event.code]
     if (!action || event.ctrlKey || event.metaKey || event.altKey || isTyping(event.target) || recall.isOpen) return
+    if (event.code === 'Space' && !spaceDrops(event.target)) return
     event.preventDefault()
     if (!event.repeat) action()
   })
-  // Space on a focused button would click it as well: the keydown above already dropped.
+  // Space on the focused Drop button would click it as well: the keydown above already dropped.
   document.addEventListener('keyup', (event) => {
-    if (event.code === 'Space' && !isTyping(event.target) && !recall.isOpen) event.preventDefault()
+    if (event.code === 'Space' && event.target === byId('drop') && !recall.isOpen) event.preventDefault()
   })
+}
+
+/** Space drops from the Drop button, or when what has focus is nothing a user operates. */
+function spaceDrops (target) {
+  if (target === byId('drop')) return true
+  if (!(target instanceof Element)) return true
+  return target.closest('button, a[href], input, select, textarea, summary, [tabindex], [contenteditable=""], [contenteditable="true"], [role="button"]') === null
 }
 
 /** Typing text (where Space and letters are the user's): text fields, text areas, selects, editable content. */
@@ -779,16 +858,18 @@ window.__plinko = {
   /** balls drawn in the last frame, and how many of them no announcement explains */
   get lastFrame () { return { ...state.lastFrame } },
   get ownInFlight () { return state.view ? state.view.ownInFlight : 0 },
-  get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice() } },
+  get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice(), floating: renderer.floaters.length } },
   get labels () { return renderer.labels.map((l) => ({ ...l })) },
   get sound () { return { muted: sound.muted, unlocked: sound.unlocked, state: sound.context ? sound.context.state : null, ...sound.played } },
   get recent () { return recent.entries.map((e) => ({ ...e })) },
   get feed () { return feed.entries.map((e) => ({ ...e })) },
   get players () { return state.players },
   get session () { return stats.summary },
+  /** what the live region said, latest last */
+  get announcements () { return announcer.said.slice() },
   get auto () {
     const run = state.autoRun
-    return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null
+    return run ? { running: run.running && state.autoTimer !== null, stopReason: run.stopReason, sent: run.sent, settled: run.settled, inFlight: run.inFlight, finished: run.finished, stoppedAt: run.stoppedAt && { ...run.stoppedAt }, remaining: run.remaining, profit: run.profit, bet: run.bet, log: run.log.slice(), dropIds: [...run.dropIds] } : null
   },
   get recall () { return recall.state },
   get firstBoardFrameAt () { return state.firstBoardFrameAt },
@@ -829,7 +910,10 @@ async function connect () {
     setTimeout(connect, 3000)
     return
   }
-  await Promise.all([loadHistory(), fairness.loadSeeds()])
+  // One read of the newest drops for both the history and the session's results.
+  const firstPage = session.request('GET', `/api/drops?limit=${HISTORY_LIMIT}`).then(({ drops }) => ({ drops, limit: HISTORY_LIMIT }))
+  firstPage.catch(() => {})
+  await Promise.all([loadHistory(firstPage), fairness.loadSeeds(), restoreSession(state.playerId, firstPage)])
   socket.start()
 }
 

@@ -1,8 +1,9 @@
 import { simulateDrop, isEngineVersion, ENGINE_VERSIONS } from '/engine/index.js'
-import { byId, el, fill, formatAmount, formatMultiplier } from './dom.js'
+import { byId, el, fill, exactAmount, exactMultiplier, formatLocalTime } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
+import { shareLink } from './share-link.js'
 
 /**
  * Game recall: any of the player's past drops, fetched from the ledger
@@ -36,6 +37,7 @@ export class RecallView {
     byId('recall-speed').addEventListener('change', (event) => this.player.setSpeed(Number(event.target.value)))
     byId('recall-scrub').addEventListener('input', (event) => { this.player.pause(); this.player.seek(Number(event.target.value)) })
     this.dialog.addEventListener('close', () => this.player.pause())
+    byId('recall-share').addEventListener('click', () => this.share())
   }
 
   get isOpen () {
@@ -53,6 +55,8 @@ export class RecallView {
     fill(byId('recall-data'))
     byId('recall-verdict').textContent = 'Loading…'
     byId('recall-verdict').className = 'verdict'
+    byId('recall-share').hidden = true
+    byId('recall-share-link').hidden = true
     if (!this.dialog.open) this.dialog.showModal()
     let record
     try {
@@ -72,6 +76,7 @@ export class RecallView {
     const chain = record.serverSeed ? await checkFairness(record, record) : null
     this.current = { dropId, bucket: outcome.bucket, ticks: outcome.ticks, stateHash: outcome.stateHash, matches, chain: chain ? chain.ok : null, record }
     this._showData(record, outcome, matches, chain)
+    byId('recall-share').hidden = !settled
     this.player.load(board, outcome.trajectory, outcome.bucket)
     this.player.play()
     return this.current
@@ -93,14 +98,33 @@ export class RecallView {
     const row = (name, value, id) => [el('dt', { text: name }), el('dd', { id, class: typeof value === 'string' && value.length > 24 ? 'seed' : '', text: String(value) })]
     fill(byId('recall-data'),
       ...row('Room', `${record.room} (engine ${record.engineVersion})`),
-      ...row('Bet → payout', `${formatAmount(record.bet)} → ${formatAmount(record.payout)} (${record.multiplier === null ? '–' : formatMultiplier(record.multiplier)})`),
+      ...row('Bet → payout', `${exactAmount(record.bet)} → ${exactAmount(record.payout)} (${record.multiplier === null ? '–' : exactMultiplier(record.multiplier)})`),
       ...row('Bucket, ticks', `${outcome.bucket} after ${outcome.ticks} ticks (recorded ${record.bucket ?? '–'} after ${record.ticks ?? '–'})`),
       ...row('Final state hash', outcome.stateHash),
       ...row('Server seed hash (committed)', record.serverSeedHash),
       ...row('Server seed', record.serverSeed ?? 'secret until you rotate the server seed', 'recall-server-seed'),
       ...row('Client seed · nonce', `${record.clientSeed} · ${record.nonce}`),
       ...row('Drop seed', record.dropSeed),
-      ...row('Played', record.createdAt.replace('T', ' ').slice(0, 19)))
+      ...row('Played', formatLocalTime(record.createdAt), 'recall-played'),
+      ...row('Played (UTC, as recorded)', record.createdAt, 'recall-played-utc'))
+  }
+
+  /** A link anyone can open to watch this drop and verify it (/share/:id/:token), shown and copied. */
+  async share () {
+    const record = this.current?.record
+    if (!record) return
+    const link = await shareLink(record)
+    const field = byId('recall-share-link')
+    field.value = link
+    field.hidden = false
+    field.select()
+    try {
+      await navigator.clipboard.writeText(link)
+      byId('recall-share').textContent = 'Link copied'
+    } catch {
+      byId('recall-share').textContent = 'Share link'
+    }
+    this.current.shareLink = link
   }
 
   _showState (p) {

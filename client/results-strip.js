@@ -1,4 +1,4 @@
-import { el, formatMultiplier } from './dom.js'
+import { el, formatMultiplier, exactMultiplier } from './dom.js'
 
 /** Results shown. */
 export const RECENT_RESULTS = 16
@@ -16,13 +16,14 @@ export class ResultsStrip {
     this.entries = []
   }
 
-  /** @param {{ dropId: number, multiplier: number, bucket: number, color: string }} result */
+  /** @param {{ dropId: number, multiplier: number, bucket: number, color: string, textColor?: string }} result */
   add (result) {
     if (this.entries.some((e) => e.dropId === result.dropId)) return
     this.entries.unshift(result)
     this.list.querySelector('.placeholder')?.remove()
-    const chip = el('li', { class: 'chip fresh', title: `drop #${result.dropId}: bucket ${result.bucket}`, dataset: { dropId: String(result.dropId) }, text: formatMultiplier(result.multiplier) })
+    const chip = el('li', { class: 'chip fresh', title: `drop #${result.dropId}: bucket ${result.bucket}, ${exactMultiplier(result.multiplier)}`, dataset: { dropId: String(result.dropId) }, text: formatMultiplier(result.multiplier) })
     chip.style.background = result.color
+    if (result.textColor) chip.style.color = result.textColor
     this.list.prepend(chip)
     while (this.entries.length > RECENT_RESULTS) {
       this.entries.pop()

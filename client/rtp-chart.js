@@ -16,7 +16,7 @@ function text (x, y, content, attributes = {}) {
 function gridLine (left, right, y, label) {
   return [
     svg('line', { x1: left, x2: right, y1: y, y2: y, stroke: COLORS.axis, 'stroke-width': 1 }),
-    text(left - 4, y + 4, label, { 'text-anchor': 'end' })
+    text(left - 4, y + 4, label, { 'text-anchor': 'end', class: 'tick-label' })
   ]
 }
 
@@ -70,11 +70,11 @@ export function rtpChart (samples, calibrated) {
   const points = samples.filter((s) => Number.isFinite(s.rtp))
   const values = [calibrated, ...points.map((s) => s.rtp)]
   for (const s of points) if (Number.isFinite(s.low)) values.push(s.low, s.high)
-  let min = Math.min(...values)
-  let max = Math.max(...values)
-  const span = Math.max(0.05, max - min)
-  min -= span * 0.1
-  max += span * 0.1
+  // Round ticks (steps of 1, 2 or 5 × 10^k percent, so 100% is one when in range); an RTP is never below 0.
+  const ticks = niceTicks(Math.max(0, Math.min(...values)), Math.max(...values))
+  const min = ticks[0]
+  const max = ticks[ticks.length - 1]
+  const decimals = Math.max(0, -Math.floor(Math.log10((ticks[1] - ticks[0]) * 100) + 1e-9))
   const maxDrops = Math.max(1, ...points.map((s) => s.drops))
   const x = (drops) => pad.left + plotW * (drops / maxDrops)
   const y = (value) => pad.top + plotH * (1 - (value - min) / (max - min))
@@ -82,7 +82,7 @@ export function rtpChart (samples, calibrated) {
   const lower = points.filter((s) => Number.isFinite(s.low)).map((s) => `${x(s.drops)},${y(s.low)}`).reverse()
   const last = points[points.length - 1]
   return svgElement(svg('svg', { viewBox: `0 0 ${width} ${height}`, class: 'chart', role: 'img', 'aria-label': 'measured RTP against calibrated RTP' },
-    [min, (min + max) / 2, max].map((value) => gridLine(pad.left, width - pad.right, y(value), `${(value * 100).toFixed(1)}%`)),
+    ticks.map((value) => gridLine(pad.left, width - pad.right, y(value), `${(value * 100).toFixed(decimals)}%`)),
     text(width - pad.right, height - 8, `${maxDrops} settled drops`, { 'text-anchor': 'end' }),
     points.length > 0 && [
       upper.length > 1 && svg('polygon', { points: [...upper, ...lower].join(' '), fill: COLORS.band }),
@@ -108,3 +108,23 @@ export function legend (items) {
 }
 
 export const CHART_COLORS = COLORS
+
+/**
+ * Round axis ticks covering [low, high] (fractions: 0.99 is 99%): a step
+ * of 1, 2 or 5 × 10^k, about four intervals, the ends snapped outwards to
+ * it; at least 1% of span. @param {number} low @param {number} high @returns {number[]}
+ */
+export function niceTicks (low, high) {
+  const span = Math.max(0.01, high - low)
+  const rough = span / 4
+  const power = 10 ** Math.floor(Math.log10(rough))
+  const step = [1, 2, 5, 10].map((m) => m * power).find((s) => s >= rough)
+  // Integer steps of 1/100000 keep 0.99 + 0.01 from drifting.
+  const unit = Math.round(step * 1e5)
+  const first = Math.floor(Math.round(low * 1e5) / unit) * unit
+  const last = Math.ceil(Math.round(high * 1e5) / unit) * unit
+  const ticks = []
+  for (let t = first; t <= last; t += unit) ticks.push(t / 1e5)
+  if (ticks.length < 2) ticks.push((last + unit) / 1e5)
+  return ticks
+}

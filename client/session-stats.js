@@ -1,5 +1,5 @@
 import { toCredits, toMilli } from '/protocol/payout.js'
-import { formatAmount, formatMultiplier, formatSigned } from './dom.js'
+import { formatAmount, formatMultiplier, multiplierTitle, showAmount } from './dom.js'
 
 const SVG = 'http://www.w3.org/2000/svg'
 /** Points kept for the chart (older ones are merged away by sampling). */
@@ -55,11 +55,14 @@ export class SessionStats {
 
   render () {
     const v = this.views
-    v.wagered.textContent = formatAmount(this.wagered)
-    v.profit.textContent = formatSigned(this.profit)
+    showAmount(v.wagered, this.wagered)
+    showAmount(v.profit, this.profit, true)
     v.profit.className = this.profit > 0 ? 'win' : this.profit < 0 ? 'loss-red' : ''
     v.drops.textContent = formatAmount(this.drops)
     v.best.textContent = this.best === null ? '–' : formatMultiplier(this.best)
+    const bestTitle = multiplierTitle(this.best)
+    if (bestTitle) v.best.title = bestTitle
+    else v.best.removeAttribute('title')
     this._chart()
   }
 

@@ -16,8 +16,10 @@ import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
 import seedRoutes from './routes/seeds.js'
 import dropRoutes from './routes/drops.js'
+import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
+import engineSpecRoutes from './routes/engine-spec.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -154,8 +156,10 @@ export async function buildApp (config, options = {}) {
   await app.register(sessionRoutes, { config, store, accounts, authGuard })
   await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
   await app.register(dropRoutes, { store, authGuard })
+  await app.register(shareRoutes, { store })
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
+  await app.register(engineSpecRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })

@@ -1,5 +1,5 @@
 import { parseRoomId } from '../protocol/room-id.js'
-import { AccountBook } from './ledger/accounts.js'
+import { AccountBook } from './game/accounts.js'
 import { RoomRegistry } from './rooms/room-registry.js'
 import { TickScheduler, SIMULATION_HZ } from './rooms/tick-scheduler.js'
 import { DropLifecycle } from './game/drop-lifecycle.js'

@@ -18,7 +18,7 @@ export class BalanceSync {
    * @param {object} options
    * @param {import('ioredis').Redis} options.redis the process's connection (publishing); a duplicate subscribes
    * @param {string} options.nodeId
-   * @param {import('../ledger/accounts.js').AccountBook} options.accounts
+   * @param {import('../game/accounts.js').AccountBook} options.accounts
    * @param {{ readBalance: (playerId: string) => Promise<number | null> }} options.store
    * @param {import('pino').Logger} options.log
    */
@@ -64,7 +64,7 @@ export class BalanceSync {
     }
   }
 
-  /** @param {import('../ledger/accounts.js').Account} account */
+  /** @param {import('../game/accounts.js').Account} account */
   _refresh (account) {
     const playerId = account.playerId
     if (this._refreshing.has(playerId)) { this._refreshing.set(playerId, true); return }

@@ -99,10 +99,10 @@ export class ClusterCoordinator {
   /** @param {Iterable<string>} playerIds */
   balancesCommitted (playerIds) { this.balances.committed(playerIds) }
 
-  /** @param {import('../ledger/accounts.js').Account} account */
+  /** @param {import('../game/accounts.js').Account} account */
   seedRotated (account) { return this.seeds.rotated(account.playerId, account.seed.id) }
 
-  /** @param {import('../ledger/accounts.js').Account} account */
+  /** @param {import('../game/accounts.js').Account} account */
   seedOutdated (account) { return this.seeds.refresh(account) }
 
   /** Every room running in the cluster, with the URL of the process that runs it. */

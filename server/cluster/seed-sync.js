@@ -23,7 +23,7 @@ export class SeedSync {
    * @param {object} options
    * @param {import('ioredis').Redis} options.redis the process's connection (publishing); a duplicate subscribes
    * @param {string} options.nodeId
-   * @param {import('../ledger/accounts.js').AccountBook} options.accounts
+   * @param {import('../game/accounts.js').AccountBook} options.accounts
    * @param {{ loadAccount: (playerId: string) => Promise<{ seed: { id: string, seed: string, hash: string, nextNonce: number } } | null> }} options.store
    * @param {import('pino').Logger} options.log
    */
@@ -88,7 +88,7 @@ export class SeedSync {
 
   /**
    * Re-reads the account's active seed from the shared ledger (once at a
-   * time per player). @param {import('../ledger/accounts.js').Account} account
+   * time per player). @param {import('../game/accounts.js').Account} account
    * @param {string} [seedId] the seed it should become: nothing to do if it is already
    */
   refresh (account, seedId) {

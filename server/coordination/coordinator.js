@@ -21,9 +21,9 @@
  * @property {(seed: { id: string, nextNonce: number }) => number} takeNonce the seed's next nonce, never given back
  * @property {() => number} takeDropId the next drop id, never given back
  * @property {(playerIds: Iterable<string>) => void} balancesCommitted these players' balances changed in the ledger
- * @property {(account: import('../ledger/accounts.js').Account) => Promise<void>} seedRotated
+ * @property {(account: import('../game/accounts.js').Account) => Promise<void>} seedRotated
  *   this process rotated the account's server seed (committed): resolves once every other process holding it uses the new one
- * @property {(account: import('../ledger/accounts.js').Account) => Promise<void>} seedOutdated
+ * @property {(account: import('../game/accounts.js').Account) => Promise<void>} seedOutdated
  *   the ledger refused a drop on a seed no longer active (E_SEED_ROTATED): re-reads the account's active seed (never rejects)
  * @property {() => Promise<object[]>} listRooms every room running (anywhere), as GET /api/rooms shows it
  * @property {(url: string) => void} setListenUrl where this process listens, once it does

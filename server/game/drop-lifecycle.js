@@ -1,4 +1,4 @@
-import { GroupCommit } from '../ledger/group-commit.js'
+import { GroupCommit } from './group-commit.js'
 import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
 import { gameError } from '../errors.js'
 import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
@@ -36,7 +36,7 @@ export class DropLifecycle {
    * @param {object} options
    * @param {import('../config.js').Config} options.config
    * @param {any} options.store the ledger store
-   * @param {import('../ledger/accounts.js').AccountBook} options.accounts
+   * @param {import('./accounts.js').AccountBook} options.accounts
    * @param {import('../coordination/coordinator.js').Coordinator} options.coordinator
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
@@ -168,7 +168,7 @@ export class DropLifecycle {
    * `outcome` says which drops the ledger refused and gives the committed
    * balances, which replace the cached ones; each message shows the balance
    * right after its own change, so a player's messages add up one by one.
-   * @param {import('../ledger/group-commit.js').PendingBatch} batch
+   * @param {import('./group-commit.js').PendingBatch} batch
    * @param {import('./money.js').CommitOutcome} outcome
    */
   _committed ({ drops, settlements }, outcome) {

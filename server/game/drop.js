@@ -8,7 +8,7 @@ import { PAYOUT_RULE } from './money.js'
 
 /**
  * @typedef {object} Drop one bet on one ball, from acceptance to settlement
- * @property {number} id @property {import('../ledger/accounts.js').Account} account
+ * @property {number} id @property {import('./accounts.js').Account} account
  * @property {string} playerId @property {import('../rooms/room.js').Room} room
  * @property {string} roomId @property {number} rows @property {string} risk
  * @property {string} engineVersion @property {string} seedId @property {string} serverSeedHash
@@ -34,7 +34,7 @@ import { PAYOUT_RULE } from './money.js'
 
 /**
  * @param {object} facts
- * @param {number} facts.id @param {import('../ledger/accounts.js').Account} facts.account
+ * @param {number} facts.id @param {import('./accounts.js').Account} facts.account
  * @param {import('../rooms/room.js').Room} facts.room @param {number} facts.nonce
  * @param {string} facts.dropSeed @param {number} facts.bet
  * @param {{ previous: string } | null} facts.clientSeedChange

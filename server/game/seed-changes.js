@@ -24,7 +24,7 @@ import { newServerSeed } from '../fairness/seeds.js'
 export class SeedChanges {
   /**
    * @param {object} services
-   * @param {{ run: <T>(work: () => Promise<T>) => Promise<T> }} services.ledger the group commit's queue (ledger/group-commit.js)
+   * @param {{ run: <T>(work: () => Promise<T>) => Promise<T> }} services.ledger the group commit's queue (group-commit.js)
    * @param {import('../store/ledger-store.js').LedgerStore} services.store
    * @param {import('../coordination/coordinator.js').Coordinator} services.coordinator
    */
@@ -36,7 +36,7 @@ export class SeedChanges {
 
   /**
    * Reveals the active server seed and commits a new one.
-   * @param {import('../ledger/accounts.js').Account} account
+   * @param {import('./accounts.js').Account} account
    */
   async rotateServerSeed (account) {
     account.seedRotations++
@@ -69,7 +69,7 @@ export class SeedChanges {
   }
 
   /**
-   * @param {import('../ledger/accounts.js').Account} account
+   * @param {import('./accounts.js').Account} account
    * @param {string} clientSeed already validated
    */
   async setClientSeed (account, clientSeed) {

@@ -44,7 +44,7 @@ export class Connection {
     this.softLimit = softLimit
     this.hardLimit = hardLimit
     this.messageLimiter = messageLimiter
-    /** @type {import('../ledger/accounts.js').Account | null} */
+    /** @type {import('../game/accounts.js').Account | null} */
     this.account = null
     /** @type {import('../rooms/room.js').Room | null} */
     this.room = null
@@ -71,7 +71,7 @@ export class Connection {
   /**
    * Binds the connection to a player once the token has been checked
    * (null: refused). Queued early messages are then handled in order.
-   * @param {import('../ledger/accounts.js').Account | null} account
+   * @param {import('../game/accounts.js').Account | null} account
    */
   authenticated (account) {
     if (!account) {

@@ -1,4 +1,4 @@
-import { TokenBucket } from '../ledger/token-bucket.js'
+import { TokenBucket } from '../limits/token-bucket.js'
 
 /**
  * Once its address's frame budget is spent, a socket still gets frames

@@ -3,8 +3,9 @@ import path from 'node:path'
 import fastifyStatic from '@fastify/static'
 
 /**
- * The browser client, if one has been built into `clientDir`: `/` serves
- * index.html, `/audit` serves audit.html, other files by path. A missing or
+ * The browser client, if one has been built into `clientDir`: its files by
+ * path (the pages themselves, `/`, `/audit` and `/share/:id/:token`, with
+ * versioned links, and the files they link to come from client-assets.js). A missing or
  * empty folder registers nothing (the API works without a client).
  * @param {import('fastify').FastifyInstance} app
  * @param {{ clientDir: string }} options
@@ -21,8 +22,5 @@ export default async function clientRoutes (app, { clientDir }) {
     app.log.info({ clientDir }, 'client folder is empty; serving the API only')
     return
   }
-  await app.register(fastifyStatic, { root: path.resolve(clientDir), index: ['index.html'], wildcard: true })
-  if (files.includes('audit.html')) {
-    app.get('/audit', { schema: { summary: 'Operator audit page' } }, (request, reply) => reply.sendFile('audit.html'))
-  }
+  await app.register(fastifyStatic, { root: path.resolve(clientDir), index: false, wildcard: true })
 }

@@ -2,7 +2,7 @@ import { Connection } from '../realtime/connection.js'
 import { createMessageParser } from '../realtime/message-schemas.js'
 import { playerIdForToken } from '../auth.js'
 import { ERROR_CODES, GameError, gameError } from '../errors.js'
-import { TokenBucket } from '../ledger/token-bucket.js'
+import { TokenBucket } from '../limits/token-bucket.js'
 import { IpLimits } from '../realtime/ip-limits.js'
 
 /** How often IPs with nothing open and full buckets are forgotten. */
@@ -18,7 +18,7 @@ const IP_SWEEP_MS = 60_000
  * @param {object} services
  * @param {import('../arena.js').Arena} services.arena the game each connection plays (join, leave, drop)
  * @param {import('../store/ledger-store.js').LedgerStore} services.store
- * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../game/accounts.js').AccountBook} services.accounts
  * @param {import('../config.js').Config} services.config
  * @param {any} services.metrics
  * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard

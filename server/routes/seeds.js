@@ -32,7 +32,7 @@ function seedList (account, seeds) {
  * @param {import('fastify').FastifyInstance} app
  * @param {object} services
  * @param {import('../store/ledger-store.js').LedgerStore} services.store
- * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../game/accounts.js').AccountBook} services.accounts
  * @param {import('../game/seed-changes.js').SeedChanges} services.seedChanges
  * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */

@@ -1,4 +1,4 @@
-import { createSession } from '../ledger/sessions.js'
+import { createSession } from '../game/sessions.js'
 import { requirePlayer } from '../auth.js'
 import { toCredits } from '../game/money.js'
 import { errors } from './schemas.js'
@@ -36,7 +36,7 @@ const sessionBody = {
  * @param {object} services
  * @param {{ sessionRateLimit: number, startingBalance: number }} services.config
  * @param {import('../store/ledger-store.js').LedgerStore} services.store
- * @param {import('../ledger/accounts.js').AccountBook} services.accounts
+ * @param {import('../game/accounts.js').AccountBook} services.accounts
  * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
 export default async function sessionRoutes (app, { config, store, accounts, authGuard }) {

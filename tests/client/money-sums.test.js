@@ -12,7 +12,7 @@ import { payoutMilli, toCredits } from '../../protocol/payout.js'
 
 const limits = { minBet: 1, maxBet: 10_000 }
 const rules = (over = {}) => ({ count: 1000, baseBet: 1, stopProfit: null, stopLoss: null, onWin: { mode: 'reset', percent: 0 }, onLoss: { mode: 'reset', percent: 0 }, ...over })
-const element = () => ({ textContent: '', className: '', dataset: {}, setAttribute () {}, replaceChildren () {} })
+const element = () => ({ textContent: '', className: '', title: '', dataset: {}, setAttribute () {}, removeAttribute (name) { this[name] = '' }, replaceChildren () {} })
 const views = () => ({ wagered: element(), profit: element(), drops: element(), best: element(), chart: element() })
 /** A settled drop as the server reports it: its payout in credits, at most three decimals. */
 const settled = (bet, multiplier) => ({ bet, multiplier, payout: toCredits(payoutMilli(bet, multiplier)) })
@@ -31,7 +31,9 @@ describe('page money sums', () => {
     const stats = new SessionStats(views())
     for (const r of results) stats.add(r)
     expect(stats.summary).toMatchObject({ wagered: 3, profit: -2.4, drops: 3, points: 4 })
-    expect(stats.views.profit.textContent).toBe('−2.4')
+    // Shown to the cent, the exact figure on hover.
+    expect(stats.views.profit.textContent).toBe('−2.40')
+    expect(stats.views.profit.title).toBe('exactly −2.4')
   })
 
   it('auto-bet and the session panel equal the milli-credit sum on any results', () => {

@@ -222,10 +222,10 @@ describe('player page defects (issue #12)', () => {
     try {
       const page = await openPlayer(chromium, rich, { viewport: PHONE, isMobile: true, hasTouch: true, deviceScaleFactor: 2 })
       expect(await page.textContent('#balance')).toBe('1,000,000,000')
-      // The one formatter of every amount: up to 3 decimals, no trailing zeros, thousands grouped.
-      // (A string, so the test runner does not rewrite the import.)
+      // The one formatter of every amount: whole amounts without decimals, others to the cent, thousands grouped
+      // (the exact milli-credits on hover). (A string, so the test runner does not rewrite the import.)
       const formatted = await page.evaluate("import('/dom.js').then(({ formatAmount }) => [1000000000.125, 1234.5, 1234.50, 0.1 + 0.2, 7, -2.25, 999999999.999].map(formatAmount))")
-      expect(formatted).toEqual(['1,000,000,000.125', '1,234.5', '1,234.5', '0.3', '7', '-2.25', '999,999,999.999'])
+      expect(formatted).toEqual(['1,000,000,000.13', '1,234.50', '1,234.50', '0.30', '7', '-2.25', '1,000,000,000.00'])
       const oneLine = async () => page.evaluate(() => {
         const bar = document.querySelector('.topbar')
         const items = [...bar.children].filter((c) => c.getBoundingClientRect().width > 0)

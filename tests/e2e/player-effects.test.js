@@ -129,6 +129,8 @@ describe('player page: effects and sound', () => {
     await page.click('#mute')
     expect(await page.getAttribute('#mute', 'aria-pressed')).toBe('true')
     expect(await page.evaluate(() => localStorage.getItem('plinko.muted'))).toBe('1')
+    // Space on the focused mute button is the button's: drop with nothing focused.
+    await page.locator('body').click({ position: { x: 5, y: 300 } })
     await page.keyboard.press('Space')
     await revealed(page, 3)
     expect(await page.evaluate(() => window.__plinko.sound)).toMatchObject({ muted: true, ticks: heard.ticks, landings: 1 })

@@ -27,12 +27,46 @@ afterAll(async () => {
 })
 
 describe('client assets', () => {
-  it('serves the player page at / and the operator page at /audit', async () => {
-    for (const [url, file] of [['/', 'index.html'], ['/audit', 'audit.html']]) {
+  it('serves the player page at /, the operator page at /audit and the share page, their links to versioned files with the version', async () => {
+    for (const [url, file] of [['/', 'index.html'], ['/audit', 'audit.html'], ['/share/1/0123456789abcdef0123', 'share.html']]) {
       const response = await server.api('GET', url)
       expect(response.status).toBe(200)
       expect(response.headers['content-type']).toMatch(/^text\/html/)
-      expect(response.text).toBe(readFileSync(`${CLIENT_DIR}/${file}`, 'utf8'))
+      expect(response.headers['cache-control']).toBe('no-cache')
+      // The file as it is, but for ?v=<version> after the stylesheet, the icon and the bundle.
+      expect(response.text.replace(/\?v=[\w-]{12}"/g, '"')).toBe(readFileSync(`${CLIENT_DIR}/${file}`, 'utf8'))
+      expect(response.text).toMatch(/href="\/style\.css\?v=[\w-]{12}"/)
+    }
+  })
+
+  it('lets browsers keep versioned files for a year without asking again, and compresses each file once', async () => {
+    const page = (await server.api('GET', '/')).text
+    const links = [...page.matchAll(/"(\/(?:bundle\/player\.js|style\.css|favicon\.svg))\?v=([\w-]{12})"/g)].map((m) => ({ url: m[1], version: m[2] }))
+    expect(links.map((l) => l.url).sort()).toEqual(['/bundle/player.js', '/favicon.svg', '/style.css'])
+    for (const { url, version } of links) {
+      const current = await server.api('GET', `${url}?v=${version}`)
+      expect(current.status, url).toBe(200)
+      expect(current.headers['cache-control'], url).toBe('public, max-age=31536000, immutable')
+      // Another version (an old page's link), or none: revalidated, never kept.
+      for (const other of [`${url}?v=000000000000`, url]) expect((await server.api('GET', other)).headers['cache-control'], other).toBe('no-cache')
+      // The version is the content's: the file's own bytes.
+      if (url !== '/bundle/player.js') expect(current.text, url).toBe(readFileSync(`${CLIENT_DIR}/${url.slice(1)}`, 'utf8'))
+    }
+    // Compressed once: the same Brotli bytes each time, sent whole with their length (not streamed through a compressor per request).
+    const http = await import('node:http')
+    const raw = (url) => new Promise((resolve, reject) => {
+      http.get(`${server.base}${url}`, { headers: { 'accept-encoding': 'br' } }, (response) => {
+        const chunks = []
+        response.on('data', (chunk) => chunks.push(chunk))
+        response.on('end', () => resolve({ headers: response.headers, body: Buffer.concat(chunks) }))
+      }).on('error', reject)
+    })
+    for (const url of ['/bundle/player.js', '/engine/world.js', '/']) {
+      const [first, second] = [await raw(url), await raw(url)]
+      expect(first.headers['content-encoding'], url).toBe('br')
+      expect(Number(first.headers['content-length']), url).toBe(first.body.length)
+      expect(first.headers.vary, url).toMatch(/accept-encoding/i)
+      expect(second.body.equals(first.body), url).toBe(true)
     }
   })
 
@@ -141,8 +175,9 @@ describe('client assets', () => {
   it('serves the player page in one module built from the very files it serves one by one', async () => {
     const page = await server.api('GET', '/')
     const scripts = [...page.text.matchAll(/<script\b[^>]*\bsrc="([^"]+)"/g)].map((m) => m[1])
-    expect(scripts).toEqual(['/bundle/player.js'])
-    const response = await fetch(`${server.base}/bundle/player.js`)
+    expect(scripts).toHaveLength(1)
+    expect(scripts[0]).toMatch(/^\/bundle\/player\.js\?v=[\w-]{12}$/)
+    const response = await fetch(`${server.base}${scripts[0]}`)
     expect(response.status).toBe(200)
     expect(response.headers.get('content-type')).toMatch(/^text\/javascript/)
     expect(response.headers.get('etag')).toMatch(/^"[\w-]{22}"$/)

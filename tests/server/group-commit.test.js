@@ -1,5 +1,5 @@
 import { describe, it, expect } from 'vitest'
-import { GroupCommit } from '../../server/ledger/group-commit.js'
+import { GroupCommit } from '../../server/game/group-commit.js'
 import { toLedgerBatch } from '../../server/game/ledger-batch.js'
 
 /** A store whose commits the test resolves or rejects one at a time. */

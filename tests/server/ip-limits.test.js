@@ -1,6 +1,6 @@
 import { describe, it, expect } from 'vitest'
 import { IpLimits, QUIET_SLACK } from '../../server/realtime/ip-limits.js'
-import { TokenBucket } from '../../server/ledger/token-bucket.js'
+import { TokenBucket } from '../../server/limits/token-bucket.js'
 
 describe('IpLimits', () => {
   it('shares one drop and join budget between the sockets of an address, each address on its own', () => {

@@ -22,6 +22,26 @@ const MAY_IMPORT = {
   server: ['engine', 'protocol', 'charts', 'npm']
 }
 
+/**
+ * The server's layers, lowest first: a module imports only from its own
+ * layer or those below (server/app.js is the composition root, server.js
+ * only starts it). The base files are what every layer may use.
+ */
+const SERVER_BASE = ['errors.js', 'config.js', 'log-format.js', 'operator-token-strength.js', 'metrics.js', 'auth.js', 'start-banner.js']
+const SERVER_LAYERS = [
+  ['fairness'], // seeds and their hashes
+  ['limits'], // token buckets, per-address budgets, connection caps
+  ['store'], // the ledger: SQLite, PostgreSQL, the contract
+  ['rooms'], // boards, a room's simulator, the clock
+  ['game'], // accounts, drops, money, the group commit, seed changes, recovery
+  ['coordination', 'cluster'], // one process or many: ownership, sequences, the shared ledger
+  ['realtime'], // one WebSocket connection and how it is fed
+  ['arena.js'], // the rooms on one clock, the game's face to a connection
+  ['routes'], // HTTP
+  ['app.js'],
+  ['server.js']
+]
+
 /** A function over this many lines is split, except the engine's inlined hot loop (its comment says why). */
 const MAX_FUNCTION_LINES = 80
 const LONG_ON_PURPOSE = new Set(['engine/world.js _advanceBodies'])
@@ -66,6 +86,25 @@ describe('the source tree', () => {
       }
     }
     expect(wrong).toEqual([])
+  })
+
+  it('has server layers that point down: no module imports a layer above its own', () => {
+    const unit = (file) => file.split('/')[1]
+    const layerOf = (file) => {
+      const name = unit(file)
+      if (SERVER_BASE.includes(name)) return -1
+      const layer = SERVER_LAYERS.findIndex((units) => units.includes(name))
+      if (layer === -1) throw new Error(`${file}: server/${name} is in no layer of this test`)
+      return layer
+    }
+    const wrong = []
+    for (const { file, text } of FILES.filter(({ file }) => file.startsWith('server/'))) {
+      for (const specifier of importsOf(file, text).filter((s) => s.startsWith('server/'))) {
+        if (layerOf(specifier) > layerOf(file)) wrong.push(`${file} → ${specifier}`)
+      }
+    }
+    expect(wrong).toEqual([])
+    expect(layerOf('server/routes/x.js')).toBeGreaterThan(layerOf('server/game/x.js'))
   })
 
   it('has nothing outside tests/ importing tests/', () => {

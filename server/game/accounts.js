@@ -1,4 +1,4 @@
-import { TokenBucket } from './token-bucket.js'
+import { TokenBucket } from '../limits/token-bucket.js'
 import { gameError } from '../errors.js'
 
 /**

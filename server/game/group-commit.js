@@ -1,4 +1,4 @@
-import { toLedgerBatch } from '../game/ledger-batch.js'
+import { toLedgerBatch } from './ledger-batch.js'
 
 /**
  * Group commit: everything one tick changes (drops accepted, balls landed)
@@ -16,8 +16,8 @@ import { toLedgerBatch } from '../game/ledger-batch.js'
 export class GroupCommit {
   /**
    * @param {object} options
-   * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<import('../game/money.js').CommitOutcome> }} options.store
-   * @param {(batch: PendingBatch, outcome: import('../game/money.js').CommitOutcome) => void} options.onCommitted outcome: what the store's commitBatch returned
+   * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<import('./money.js').CommitOutcome> }} options.store
+   * @param {(batch: PendingBatch, outcome: import('./money.js').CommitOutcome) => void} options.onCommitted outcome: what the store's commitBatch returned
    * @param {(batch: PendingBatch, error: unknown) => void} options.onFailed
    * @param {import('../metrics.js').Metrics} [options.metrics]
    * @param {{ error: Function }} [options.log]
@@ -34,12 +34,12 @@ export class GroupCommit {
     this._flushWanted = false
   }
 
-  /** @param {import('../game/drop.js').Drop} drop */
+  /** @param {import('./drop.js').Drop} drop */
   addDrop (drop) {
     this.open.drops.push(drop)
   }
 
-  /** @param {import('../game/drop.js').Settlement} settlement */
+  /** @param {import('./drop.js').Settlement} settlement */
   addSettlement (settlement) {
     this.open.settlements.push(settlement)
   }
@@ -47,8 +47,8 @@ export class GroupCommit {
   /**
    * Takes back the drops of the open batch (not yet sent to the store) that
    * match `predicate`: they will never be written.
-   * @param {(drop: import('../game/drop.js').Drop) => boolean} predicate
-   * @returns {import('../game/drop.js').Drop[]}
+   * @param {(drop: import('./drop.js').Drop) => boolean} predicate
+   * @returns {import('./drop.js').Drop[]}
    */
   withdrawDrops (predicate) {
     const withdrawn = this.open.drops.filter(predicate)
@@ -129,7 +129,7 @@ export class GroupCommit {
   }
 }
 
-/** @typedef {{ drops: import('../game/drop.js').Drop[], settlements: import('../game/drop.js').Settlement[] }} PendingBatch */
+/** @typedef {{ drops: import('./drop.js').Drop[], settlements: import('./drop.js').Settlement[] }} PendingBatch */
 
 function newBatch () {
   return { drops: [], settlements: [] }

@@ -1,7 +1,7 @@
 import { randomBytes } from 'node:crypto'
 import { hashToken } from '../auth.js'
 import { newClientSeed, newServerSeed } from '../fairness/seeds.js'
-import { toMilli } from '../game/money.js'
+import { toMilli } from './money.js'
 
 /**
  * Creates a guest player with the starting play-money balance, a committed
