@@ -29,6 +29,7 @@ import { openStore } from '../server/store/open-store.js'
 import { createSession } from '../server/game/sessions.js'
 import { Room } from '../server/rooms/room.js'
 import { snapshotsDelivery } from '../server/realtime/delivery-snapshots.js'
+import { NO_ADDRESS_LIMITS } from '../server/realtime/ip-limits.js'
 import { boardOf } from '../server/rooms/boards.js'
 import { deriveDropSeed } from '../server/fairness/seeds.js'
 import { summarize } from './measure.js'
@@ -56,6 +57,8 @@ class BenchClient {
     this.arena = arena
     this.account = account
     this.room = room
+    // In-process players have no address to share buckets with.
+    this.ipLimits = NO_ADDRESS_LIMITS
     this.drops = 0
     this.eventBytes = 0
     this.snapshotBytes = 0
