@@ -49,9 +49,6 @@ const LONG_ON_PURPOSE = new Set(['engine/world.js _advanceBodies'])
 const KNOWN_LONG = new Set([
   'bench/server-ticks.js run',
   'loadtest/k6-lib/player.js connect',
-  'loadtest/lean/lean-generator.js summarize',
-  'loadtest/lean/lean-worker.js playWorkerPlan',
-  'loadtest/lean/lean-worker.js play',
   'server/app.js buildApp'
 ])
 
