@@ -82,7 +82,7 @@ export class DropLifecycle {
     // Its seed is about to be revealed (game/seed-changes.js): no drop may be recorded on it after that.
     if (account.seedRotations > 0) throw gameError('E_SEED_ROTATING')
     if (!account.dropLimiter.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRate} drops per second`)
-    if (connection.ipLimits && !connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
+    if (!connection.ipLimits.drops.take()) throw gameError('E_RATE_LIMITED', `at most ${this.config.dropRatePerIp} drops per second from one address`)
     if (room.ballsInFlight >= this.config.maxBallsPerRoom) throw gameError('E_ROOM_FULL')
     if (betCost(bet) > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${toCredits(account.available)} is lower than the bet ${bet}`)
 
