@@ -5,7 +5,8 @@ import { TickScheduler, SIMULATION_HZ } from './rooms/tick-scheduler.js'
 import { DropLifecycle } from './game/drop-lifecycle.js'
 import { gameError } from './errors.js'
 import { deliveryNamed, emptyTally } from './realtime/deliveries.js'
-import { joinedMessage } from '../protocol/server-messages.js'
+import { joinedMessage, balanceMessage } from '../protocol/server-messages.js'
+import { toCredits } from './game/money.js'
 import { DESYNC_CHECK_SECONDS } from './realtime/delivery-seeds.js'
 
 /**
@@ -65,8 +66,14 @@ export class Arena {
    */
   async start () {
     await this.sequences.start()
-    await this.feed.start({ accounts: this.accounts })
+    await this.feed.start({ accounts: this.accounts, onBalanceChanged: (account, balance) => this._balanceChangedElsewhere(account, balance) })
     await this.ownership.start({ rooms: this.rooms, ledger: this.ledger, onRoomLost: (roomId) => this.evictRoom(roomId) })
+  }
+
+  /** Another process committed this balance for an account held here: shown to the player's connections. */
+  _balanceChangedElsewhere (account, balance) {
+    account.balance = balance
+    for (const connection of account.connections) connection.sendJson(balanceMessage(toCredits(balance)))
   }
 
   /** Starts the clock. */

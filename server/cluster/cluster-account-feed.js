@@ -25,11 +25,11 @@ export class ClusterAccountFeed {
     this.seeds = null
   }
 
-  /** @param {{ accounts: import('../game/accounts.js').AccountBook }} services */
-  async start ({ accounts }) {
+  /** @param {import('../coordination/account-feed.js').FeedServices} services */
+  async start ({ accounts, onBalanceChanged }) {
     const { redis, nodeId } = this.presence
     await this.presence.connect()
-    this.balances = new BalanceSync({ redis, nodeId, accounts, store: this.store, log: this.log })
+    this.balances = new BalanceSync({ redis, nodeId, accounts, onBalanceChanged, store: this.store, log: this.log })
     this.seeds = new SeedSync({ redis, nodeId, accounts, store: this.store, log: this.log })
     await this.balances.start()
     await this.seeds.start()
