@@ -2,6 +2,7 @@ import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { MODES, coordinationTestbed } from './helpers/coordination.js'
 import { RoomRegistry } from '../../server/rooms/room-registry.js'
 import { KEYS } from '../../server/cluster/room-directory.js'
+import { eventually } from '../../tools/eventually.js'
 
 /**
  * The room ownership contract (server/coordination/room-ownership.js), run
@@ -55,8 +56,8 @@ describe.each(MODES)('the room ownership contract: $name', (entry) => {
     await process.ownership.claim('10-medium')
     process.rooms.getOrCreate('10-medium')
     process.rooms.disposeIdle()
-    // Alone a room is never given up; clustered its lease is released behind the ledger queue.
-    if (entry.redis) await eventuallyTrue(async () => !process.ownership.owns('10-medium') && (await readLease(testbed.redis().url, '10-medium')) === null)
+    // Alone a room is never given up; clustered its lease is released behind the ledger queue, then in Redis (polled).
+    if (entry.redis) await eventually(async () => !process.ownership.owns('10-medium') && (await readLease(testbed.redis().url, '10-medium')) === null)
     await process.ownership.claim('10-medium')
     expect(process.ownership.owns('10-medium')).toBe(true)
   })
@@ -73,7 +74,7 @@ describe.each(MODES)('the room ownership contract: $name', (entry) => {
 
     a.rooms.disposeIdle()
     const redis = testbed.redis()
-    await eventuallyTrue(async () => (await readLease(redis.url, '12-high')) === null)
+    await eventually(async () => (await readLease(redis.url, '12-high')) === null)
     await b.ownership.claim('12-high')
     expect(b.ownership.owns('12-high')).toBe(true)
   })
@@ -101,12 +102,3 @@ async function withRedis (url, work) {
 
 const readLease = (url, roomId) => withRedis(url, (redis) => redis.get(KEYS.lease(roomId)))
 const overwriteLease = (url, roomId, owner) => withRedis(url, (redis) => redis.set(KEYS.lease(roomId), owner, 'PX', 60_000))
-
-/** The release waits for the ledger queue, then Redis: polled until done (no fixed sleep). */
-async function eventuallyTrue (check, timeoutMs = 5000) {
-  const until = Date.now() + timeoutMs
-  while (!(await check())) {
-    if (Date.now() > until) throw new Error('condition not met in time')
-    await new Promise((resolve) => setTimeout(resolve, 20))
-  }
-}
