@@ -30,7 +30,7 @@
 import fs from 'node:fs'
 import { withBenchLedger } from './temp-ledger.js'
 import { Arena } from '../server/arena.js'
-import { LocalCoordinator } from '../server/coordination/local-coordinator.js'
+import { SINGLE_PROCESS } from '../server/coordination/modes.js'
 import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
 import { createSession } from '../server/game/sessions.js'
@@ -71,7 +71,8 @@ await withBenchLedger({ DROP_RATE: '1000', DROP_BURST: '1000', WS_HEARTBEAT_MS: 
 async function run (config) {
   const store = await openStore(config.database)
   const metrics = createMetrics({ defaultMetrics: false })
-  const arena = new Arena({ config, store, coordinator: new LocalCoordinator({ store, log: silentLog }), metrics, log: silentLog })
+  const { ownership, sequences, feed } = SINGLE_PROCESS.coordinate({ store, config, log: silentLog })
+  const arena = new Arena({ config, store, ownership, sequences, feed, metrics, log: silentLog })
   await arena.start()
   const parseMessage = createMessageParser(config)
   const players = await seatPlayers(arena, store, config, metrics, parseMessage)

@@ -22,7 +22,7 @@ import { spawnSync } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
 import { DropSimulator } from '../engine/index.js'
 import { Arena } from '../server/arena.js'
-import { LocalCoordinator } from '../server/coordination/local-coordinator.js'
+import { SINGLE_PROCESS } from '../server/coordination/modes.js'
 import { withBenchLedger } from './temp-ledger.js'
 import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
@@ -88,8 +88,8 @@ async function run (config) {
   const probe = { measuring: false, commits: [], ticks: [], lags: [] }
   const store = await openStore(config.database)
   timeCommits(store, probe)
-  const coordinator = new LocalCoordinator({ store, log: silentLog })
-  const arena = new Arena({ config, store, coordinator, metrics: createMetrics({ defaultMetrics: false }), log: silentLog })
+  const { ownership, sequences, feed } = SINGLE_PROCESS.coordinate({ store, config, log: silentLog })
+  const arena = new Arena({ config, store, ownership, sequences, feed, metrics: createMetrics({ defaultMetrics: false }), log: silentLog })
   await arena.start()
 
   const board = boardOf('16-medium')

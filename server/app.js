@@ -36,8 +36,8 @@ const KEEP_ALIVE_MS = 5000
  * Builds the whole server without listening: tests drive it with
  * app.inject() or listen on port 0; server.js listens on the configured
  * port. Chooses the mode once (coordination/modes.js: alone, or clustered
- * with REDIS_URL), opens (and migrates) its ledger, starts its coordinator
- * (which settles the drops a previous process left in flight), then wires
+ * with REDIS_URL), opens (and migrates) its ledger, starts its coordination
+ * (room ownership settles the drops a previous process left in flight), then wires
  * the arena and the routes. The 60 Hz clock starts when the app is ready
  * and stops (after settling every ball in flight) when it closes.
  * @param {import('./config.js').Config} config
@@ -86,13 +86,14 @@ export async function buildApp (config, options = {}) {
 
   const mode = modeOf(config)
   const store = options.store ?? await mode.openStore(config.database)
-  const coordinator = mode.createCoordinator({ store, config, log: app.log })
+  const coordination = mode.coordinate({ store, config, log: app.log })
+  const { ownership, sequences, feed } = coordination
   const metrics = createMetrics()
-  const arena = new Arena({ config, store, coordinator, metrics, log: app.log, tickRate: options.tickRate })
+  const arena = new Arena({ config, store, ownership, sequences, feed, metrics, log: app.log, tickRate: options.tickRate })
   try {
     await arena.start()
   } catch (error) {
-    await coordinator.close().catch(() => {})
+    await coordination.close().catch(() => {})
     await store.close().catch(() => {})
     throw error
   }
@@ -107,7 +108,7 @@ export async function buildApp (config, options = {}) {
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
-    if (address && typeof address === 'object') coordinator.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
+    if (address && typeof address === 'object') ownership.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
   })
 
   if (config.operatorTokenGenerated && options.announceToken !== false) {
@@ -152,12 +153,12 @@ export async function buildApp (config, options = {}) {
   })
   // Each route gets the services it uses, not the whole arena.
   const { accounts } = arena
-  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, coordinator })
+  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, feed })
   await app.register(sessionRoutes, { config, store, accounts, authGuard })
   await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
   await app.register(dropRoutes, { store, authGuard })
   await app.register(shareRoutes, { store })
-  await app.register(roomRoutes, { coordinator })
+  await app.register(roomRoutes, { ownership })
   await app.register(clientReportRoutes)
   await app.register(engineSpecRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
@@ -170,7 +171,7 @@ export async function buildApp (config, options = {}) {
   app.addHook('onReady', async () => arena.run())
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
-    await coordinator.close()
+    await coordination.close()
     await addressLimits.close()
     await store.close()
   })

@@ -17,7 +17,7 @@ export const SETTLE_RETRY_MAX_MS = 2000
 /**
  * A drop's whole life, in one place:
  *
- *   accept   checks the bet, takes a nonce and an id (coordinator), derives
+ *   accept   checks the bet, takes a nonce and an id (sequences), derives
  *            the drop seed, reserves the bet, releases the ball
  *   record   the tick's group commit writes it (ledger-batch.js)
  *   apply    once committed: the reservation becomes a debit, the balance
@@ -37,14 +37,16 @@ export class DropLifecycle {
    * @param {import('../config.js').Config} options.config
    * @param {any} options.store the ledger store
    * @param {import('./accounts.js').AccountBook} options.accounts
-   * @param {import('../coordination/coordinator.js').Coordinator} options.coordinator
+   * @param {import('../coordination/sequences.js').Sequences} options.sequences drop ids and nonces
+   * @param {import('../coordination/account-feed.js').AccountFeed} options.feed tells other processes of committed balances
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
    */
-  constructor ({ config, store, accounts, coordinator, metrics, log }) {
+  constructor ({ config, store, accounts, sequences, feed, metrics, log }) {
     this.config = config
     this.accounts = accounts
-    this.coordinator = coordinator
+    this.sequences = sequences
+    this.feed = feed
     this.metrics = metrics
     this.log = log
     this.ledger = new GroupCommit({
@@ -87,8 +89,8 @@ export class DropLifecycle {
     if (betCost(bet) > account.available) throw gameError('E_INSUFFICIENT_FUNDS', `balance ${toCredits(account.available)} is lower than the bet ${bet}`)
 
     // Never given back, even if the drop fails to commit.
-    const nonce = this.coordinator.takeNonce(account.seed)
-    const id = this.coordinator.takeDropId()
+    const nonce = this.sequences.takeNonce(account.seed)
+    const id = this.sequences.takeDropId()
     let clientSeedChange = null
     if (clientSeed !== undefined && clientSeed !== account.clientSeed) {
       clientSeedChange = { previous: account.clientSeed }
@@ -175,7 +177,7 @@ export class DropLifecycle {
     const running = new RunningBalances(drops, settlements, outcome)
     /** rooms with events queued by this batch (SPECTATOR_EVENTS=immediate sends them at the end) */
     const touched = this.config.spectatorEvents === 'immediate' ? new Set() : null
-    this.coordinator.balancesCommitted(outcome.balances.keys())
+    this.feed.balancesCommitted(outcome.balances.keys())
     // Counted once per batch: a labelled counter update costs about a microsecond.
     let announced = 0
     let bets = 0
@@ -185,7 +187,7 @@ export class DropLifecycle {
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
         // A seed rotated by another process: the player hears of it once this one has the new seed, so dropping again works.
-        const told = refused === 'E_SEED_ROTATED' ? this.coordinator.seedOutdated(account) : undefined
+        const told = refused === 'E_SEED_ROTATED' ? this.feed.seedOutdated(account) : undefined
         this._refuse(drop, refused, refused === 'E_INSUFFICIENT_FUNDS' ? 'the balance no longer covers the bet; nothing was debited' : undefined, told)
         continue
       }
