@@ -49,6 +49,23 @@ const KEEP_ALIVE_MS = 5000
  * @param {boolean} [options.announceToken] log a generated operator token (default true; false when the start-up banner shows it)
  */
 export async function buildApp (config, options = {}) {
+  const app = createFastify(config, options)
+  const { store, coordinator, metrics, arena, addressLimits } = await startGame(app, config, options)
+  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
+  await registerPlugins(app, { config, arena, addressLimits })
+  await registerRoutes(app, { config, store, coordinator, metrics, arena, authGuard })
+  app.addHook('onReady', async () => arena.run())
+  app.addHook('onClose', async () => {
+    arena.scheduler.stop()
+    await coordinator.close()
+    await addressLimits.close()
+    await store.close()
+  })
+  return app
+}
+
+/** Fastify with the server's logger, timeouts and named errors for what fails before routing. */
+function createFastify (config, options) {
   const app = Fastify({
     logger: options.logger ?? {
       level: config.logLevel,
@@ -82,7 +99,19 @@ export async function buildApp (config, options = {}) {
   app.addHook('onRequest', requireHost)
   // Safe integers only, bodies as sent, no extra properties (routes/request-validation.js).
   app.setValidatorCompiler(requestValidatorCompiler())
+  app.setErrorHandler(replyWithError)
+  if (config.operatorTokenGenerated && options.announceToken !== false) {
+    app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
+  }
+  return app
+}
 
+/**
+ * Chooses the mode, opens its ledger and starts the arena on it (its
+ * coordinator settles what a previous process left in flight); caps the
+ * connections and says where per-address limits are counted.
+ */
+async function startGame (app, config, options) {
   const mode = modeOf(config)
   const store = options.store ?? await mode.openStore(config.database)
   const coordinator = mode.createCoordinator({ store, config, log: app.log })
@@ -102,19 +131,16 @@ export async function buildApp (config, options = {}) {
     metrics
   }).attach(app.server)
   const addressLimits = mode.createAddressLimits({ config, log: app.log })
-  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
     if (address && typeof address === 'object') coordinator.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
   })
+  return { store, coordinator, metrics, arena, addressLimits }
+}
 
-  if (config.operatorTokenGenerated && options.announceToken !== false) {
-    app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
-  }
-
-  app.setErrorHandler(replyWithError)
-
+/** Security headers, compression, the HTTP rate limit and WebSockets (which close after the arena). */
+async function registerPlugins (app, { config, arena, addressLimits }) {
   await app.register(helmet, {
     contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
   })
@@ -142,14 +168,16 @@ export async function buildApp (config, options = {}) {
       }, done)
     }
   })
+}
 
+/** Every route, each given the services it uses, not the whole arena. */
+async function registerRoutes (app, { config, store, coordinator, metrics, arena, authGuard }) {
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
   // Also before them: 405 with Allow for a method a path does not have, 404 for a path no route has.
   await app.register(methodNotAllowed, {
     notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
   })
-  // Each route gets the services it uses, not the whole arena.
   const { accounts } = arena
   const seedChanges = new SeedChanges({ ledger: arena.ledger, store, coordinator })
   await app.register(sessionRoutes, { config, store, accounts, authGuard })
@@ -164,15 +192,6 @@ export async function buildApp (config, options = {}) {
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
-
-  app.addHook('onReady', async () => arena.run())
-  app.addHook('onClose', async () => {
-    arena.scheduler.stop()
-    await coordinator.close()
-    await addressLimits.close()
-    await store.close()
-  })
-  return app
 }
 
 /** HTTP errors as `{ code, message }`: named codes keep their status, bad input is a 4xx, never a 500. */

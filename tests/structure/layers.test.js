@@ -52,8 +52,7 @@ const KNOWN_LONG = new Set([
   'loadtest/k6-lib/player.js connect',
   'loadtest/lean/lean-generator.js summarize',
   'loadtest/lean/lean-worker.js playWorkerPlan',
-  'loadtest/lean/lean-worker.js play',
-  'server/app.js buildApp'
+  'loadtest/lean/lean-worker.js play'
 ])
 
 const folderOf = (specifier) => specifier.split('/')[0]
