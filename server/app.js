@@ -53,7 +53,7 @@ export async function buildApp (config, options = {}) {
   const { store, coordinator, metrics, arena, addressLimits } = await startGame(app, config, options)
   const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   await registerPlugins(app, { config, arena, addressLimits })
-  await registerRoutes(app, { config, store, coordinator, metrics, arena, authGuard })
+  await registerRoutes(app, { config, store, coordinator, metrics, arena, authGuard, addressLimits })
   app.addHook('onReady', async () => arena.run())
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
@@ -131,6 +131,8 @@ async function startGame (app, config, options) {
     metrics
   }).attach(app.server)
   const addressLimits = mode.createAddressLimits({ config, log: app.log })
+  metrics.addressShareWorkers.set(addressLimits.workerShare.workers)
+  addressLimits.workerShare.onChange((workers) => metrics.addressShareWorkers.set(workers))
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
@@ -171,7 +173,7 @@ async function registerPlugins (app, { config, arena, addressLimits }) {
 }
 
 /** Every route, each given the services it uses, not the whole arena. */
-async function registerRoutes (app, { config, store, coordinator, metrics, arena, authGuard }) {
+async function registerRoutes (app, { config, store, coordinator, metrics, arena, authGuard, addressLimits }) {
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
   // Also before them: 405 with Allow for a method a path does not have, 404 for a path no route has.
@@ -187,7 +189,7 @@ async function registerRoutes (app, { config, store, coordinator, metrics, arena
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
   await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
-  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
+  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard, workerShare: addressLimits.workerShare })
   await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
