@@ -158,6 +158,7 @@ async function registerPlugins (app, { config, arena, addressLimits }) {
     keyGenerator: (request) => request.ip ?? 'unknown',
     ...addressLimits.rateLimitOptions
   })
+  app.addHook('onRoute', rateLimitBeforeAuth)
   await app.register(websocket, {
     options: { maxPayload: config.wsMaxPayload },
     // Settle every ball in flight and say goodbye before the sockets go;
@@ -194,6 +195,21 @@ async function registerRoutes (app, { config, store, coordinator, metrics, arena
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
+}
+
+/** The hooks that check a token (server/auth.js). */
+const AUTH_HOOKS = new Set(['playerOnly', 'operatorOnly'])
+
+/**
+ * onRoute, after the rate limit's own (which appends its hook to the route's
+ * onRequest): the token checks move behind it, so a request is counted by
+ * HTTP_RATE_LIMIT before its token is looked at, one with no token at all
+ * (401) included. A plugin's own onRequest hooks run before any route's,
+ * so the operator routes add theirs to each route too (routes/audit.js).
+ */
+function rateLimitBeforeAuth (route) {
+  const hooks = [route.onRequest ?? []].flat()
+  route.onRequest = [...hooks.filter((hook) => !AUTH_HOOKS.has(hook.name)), ...hooks.filter((hook) => AUTH_HOOKS.has(hook.name))]
 }
 
 /** HTTP errors as `{ code, message }`: named codes keep their status, bad input is a 4xx, never a 500. */
