@@ -54,6 +54,7 @@ export async function buildApp (config, options = {}) {
   const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
   await registerPlugins(app, { config, arena, addressLimits })
   await registerRoutes(app, { config, store, coordinator, metrics, arena, authGuard, addressLimits })
+  await monitoringListener(app, config, { metrics, arena })
   app.addHook('onReady', async () => arena.run())
   app.addHook('onClose', async () => {
     arena.scheduler.stop()
@@ -189,12 +190,39 @@ async function registerRoutes (app, { config, store, coordinator, metrics, arena
   await app.register(shareRoutes, { store })
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
-  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
+  if (config.monitoring.onPublicPort) await registerMonitoring(app, config, { metrics, arena })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard, workerShare: addressLimits.workerShare })
-  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
+}
+
+/** /api/health and /metrics (each with its MONITORING_RATE_LIMIT where the rate limit is registered). */
+async function registerMonitoring (app, config, { metrics, arena }) {
+  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
+  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
+}
+
+/**
+ * MONITORING_PORT set: /api/health and /metrics on a listener of their own
+ * (MONITORING_HOST, loopback by default), so that probes and scrapes never
+ * queue behind the public port's traffic and a client flooding the public
+ * port cannot make the server render them. No rate limit there: whoever
+ * reaches it is trusted. It listens when the app is ready (a port in use
+ * stops the start) and closes with it; `app.monitoring` is its instance.
+ */
+async function monitoringListener (app, config, services) {
+  const { port, host } = config.monitoring
+  if (port === null) return
+  const monitoring = Fastify({ loggerInstance: app.log.child({ listener: 'monitoring' }), disableRequestLogging: true })
+  monitoring.setErrorHandler(replyWithError)
+  await registerMonitoring(monitoring, config, services)
+  app.decorate('monitoring', monitoring)
+  app.addHook('onReady', async () => {
+    await monitoring.listen({ port, host })
+    app.log.info({ address: monitoring.addresses()[0] }, 'monitoring listener: /api/health and /metrics')
+  })
+  app.addHook('onClose', async () => monitoring.close())
 }
 
 /** The hooks that check a token (server/auth.js). */
