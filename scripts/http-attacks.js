@@ -21,12 +21,14 @@ import { eventually } from '../tools/eventually.js'
  *                                            a server that may open 2,048 files, with honest /api/health probes
  *   node scripts/http-attacks.js probes      /api/health and /metrics flooded from one address while a player pings
  *
- * `--root DIR` runs another checkout's server (to measure before a fix).
+ * `--root DIR` runs another checkout's server (to measure before a fix); NAME=value arguments set its environment.
  */
 const OPERATOR_TOKEN = 'operator-token-for-attack-runs-0123456789'
 const args = process.argv.slice(2)
 const attack = args[0]
 const root = args.includes('--root') ? path.resolve(args[args.indexOf('--root') + 1]) : undefined
+/** NAME=value arguments: the server's environment (e.g. `probes MONITORING_PORT=0`, to flood a public port that has no /api/health). */
+const serverEnv = Object.fromEntries(args.filter((arg) => /^[A-Z][A-Z0-9_]*=/.test(arg)).map((arg) => [arg.slice(0, arg.indexOf('=')), arg.slice(arg.indexOf('=') + 1)]))
 
 const percentile = (values, p) => {
   if (values.length === 0) return NaN
@@ -182,7 +184,7 @@ async function pingingPlayer (base, port, seconds) {
 
 async function probes () {
   for (const pathname of ['/api/health', '/metrics']) {
-    await withServer({}, async (base, port) => {
+    await withServer(serverEnv, async (base, port) => {
       const quiet = await pingingPlayer(base, port, 3)
       const counts = {}
       let stop = false
