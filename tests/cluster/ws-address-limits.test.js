@@ -12,7 +12,12 @@ import { clusterTestbed, eventually } from './helpers/cluster.js'
 describe('cluster: the per-address WebSocket budgets are the cluster\'s', () => {
   const testbed = clusterTestbed()
   const sockets = []
-  afterEach(() => { for (const socket of sockets.splice(0)) socket.terminate() })
+  // Each test's processes go with it: they count as workers on the one Redis while they run.
+  afterEach(async () => {
+    for (const socket of sockets.splice(0)) socket.terminate()
+    await testbed.closeAll()
+    for (const node of testbed.nodes.splice(0)) await node.stop()
+  })
 
   async function twoNodes (env) {
     const databaseUrl = await testbed.postgres.createDatabase()
@@ -63,5 +68,15 @@ describe('cluster: the per-address WebSocket budgets are the cluster\'s', () => 
     // 2 s of refill at 0.5 a second per process would be needed for a third: the 10 replies come within milliseconds.
     expect(dropped).toHaveLength(2)
     expect(replies.filter((m) => m.code === 'E_RATE_LIMITED')).toHaveLength(8)
+  })
+
+  it('gives the whole budget back to the process left once the other stops', async () => {
+    const nodes = await twoNodes({ WS_MAX_CONNECTIONS_PER_IP: '4' })
+    const session = await nodes[0].session()
+    expect((await nodes[1].stop()).code).toBe(0)
+    await eventually(async () => /plinko_ws_address_limit_workers 1\b/.test(await (await fetch(`${nodes[0].url}/metrics`)).text()))
+    const outcomes = []
+    for (let i = 0; i < 5; i++) outcomes.push(await firstMessage(nodes[0].wsUrl(session.token)))
+    expect(outcomes.map((m) => m.type === 'welcome' ? 'welcome' : m.code)).toEqual(['welcome', 'welcome', 'welcome', 'welcome', 'E_TOO_MANY_CONNECTIONS'])
   })
 })
