@@ -22,10 +22,21 @@ export function soleWorker () {
 
 const WORKERS_KEY = 'plinko:address-limits:workers'
 
+/** One heartbeat on Redis's clock (processes on other hosts may disagree on the time): the processes seen within ttl. */
+const BEAT_SCRIPT = `
+local t = redis.call('TIME')
+local now = tonumber(t[1]) * 1000 + math.floor(tonumber(t[2]) / 1000)
+local ttl = tonumber(ARGV[2])
+redis.call('ZADD', KEYS[1], now, ARGV[1])
+redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - ttl)
+redis.call('PEXPIRE', KEYS[1], ttl * 10)
+return redis.call('ZCARD', KEYS[1])
+`
+
 /**
  * Each process writes its heartbeat into a sorted set every `intervalMs`
- * and counts the members seen within `ttlMs`: a killed process stops
- * counting after ttlMs. While Redis does not answer the last count stays.
+ * and counts the members seen within `ttlMs` (on Redis's clock): a killed
+ * process stops counting after ttlMs. While Redis does not answer the last count stays.
  */
 export class RedisWorkerShare {
   /** @param {{ redis: import('ioredis').Redis, nodeId: string, ttlMs?: number, intervalMs?: number, log: import('pino').Logger }} options */
@@ -35,6 +46,7 @@ export class RedisWorkerShare {
     this.ttlMs = ttlMs
     this.log = log
     this.workers = 1
+    redis.defineCommand('plinkoWorkerBeat', { numberOfKeys: 1, lua: BEAT_SCRIPT })
     /** @type {((workers: number) => void)[]} */
     this.listeners = []
     // The connection is not up yet (no offline queue): the first beat waits for it.
@@ -49,14 +61,8 @@ export class RedisWorkerShare {
   }
 
   async beat () {
-    const now = Date.now()
     try {
-      const [, , [, count]] = await this.redis.multi()
-        .zadd(WORKERS_KEY, now, this.nodeId)
-        .zremrangebyscore(WORKERS_KEY, '-inf', now - this.ttlMs)
-        .zcard(WORKERS_KEY)
-        .pexpire(WORKERS_KEY, this.ttlMs * 10)
-        .exec()
+      const count = Number(await this.redis.plinkoWorkerBeat(WORKERS_KEY, this.nodeId, this.ttlMs))
       this._set(Math.max(1, count))
     } catch (error) {
       this.log.debug({ err: error }, 'worker heartbeat failed (address limits keep the last share)')
