@@ -19,6 +19,7 @@ import dropRoutes from './routes/drops.js'
 import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
+import engineSpecRoutes from './routes/engine-spec.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -190,6 +191,7 @@ async function registerRoutes (app, { config, store, coordinator, metrics, arena
   await app.register(shareRoutes, { store })
   await app.register(roomRoutes, { coordinator })
   await app.register(clientReportRoutes)
+  await app.register(engineSpecRoutes)
   if (config.monitoring.onPublicPort) await registerMonitoring(app, config, { metrics, arena })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard, workerShare: addressLimits.workerShare })
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })

@@ -116,6 +116,18 @@ function resize (bucket, rate, burst) {
   bucket.tokens = Math.min(bucket.tokens, burst)
 }
 
+/**
+ * An address entry that lifts nothing (every drop, join and frame is let
+ * through): what a connection holds until the route has counted it against
+ * its address (one refused at capacity never is), and what the benchmark's
+ * in-process players hold, having no address.
+ */
+export const NO_ADDRESS_LIMITS = Object.freeze({
+  drops: Object.freeze({ take: () => true }),
+  joins: Object.freeze({ take: () => true }),
+  admitFrame: () => true
+})
+
 class IpEntry {
   /** @param {string} ip @param {{ drops: TokenBucket, joins: TokenBucket, frames: TokenBucket, bytes: TokenBucket }} buckets */
   constructor (ip, { drops, joins, frames, bytes }) {
