@@ -22,13 +22,14 @@ import { spawnSync } from 'node:child_process'
 import { fileURLToPath } from 'node:url'
 import { DropSimulator } from '../engine/index.js'
 import { Arena } from '../server/arena.js'
-import { LocalCoordinator } from '../server/coordination/local-coordinator.js'
+import { SINGLE_PROCESS } from '../server/coordination/modes.js'
 import { withBenchLedger } from './temp-ledger.js'
 import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
 import { createSession } from '../server/game/sessions.js'
 import { Room } from '../server/rooms/room.js'
 import { snapshotsDelivery } from '../server/realtime/delivery-snapshots.js'
+import { NO_ADDRESS_LIMITS } from '../server/realtime/ip-limits.js'
 import { boardOf } from '../server/rooms/boards.js'
 import { deriveDropSeed } from '../server/fairness/seeds.js'
 import { summarize } from './measure.js'
@@ -56,6 +57,8 @@ class BenchClient {
     this.arena = arena
     this.account = account
     this.room = room
+    // In-process players have no address to share buckets with.
+    this.ipLimits = NO_ADDRESS_LIMITS
     this.drops = 0
     this.eventBytes = 0
     this.snapshotBytes = 0
@@ -81,21 +84,40 @@ await withBenchLedger({ DROP_RATE: '1000', DROP_BURST: '1000' }, run)
 
 /** @param {import('../server/config.js').Config} config */
 async function run (config) {
+  /** What is timed while `measuring`: each group commit, tick and tick lag (ms). */
+  const probe = { measuring: false, commits: [], ticks: [], lags: [] }
   const store = await openStore(config.database)
-  const commitSamples = []
-  const commitBatch = store.commitBatch.bind(store)
-  store.commitBatch = async (batch) => {
-    // From handing the batch over until it is durable (on the store's writer thread, off the event loop).
-    const started = process.hrtime.bigint()
-    const outcome = await commitBatch(batch)
-    if (measuring) commitSamples.push(Number(process.hrtime.bigint() - started) / 1e6)
-    return outcome
-  }
-  const coordinator = new LocalCoordinator({ store, log: silentLog })
-  const arena = new Arena({ config, store, coordinator, metrics: createMetrics({ defaultMetrics: false }), log: silentLog })
+  timeCommits(store, probe)
+  const { ownership, sequences, feed } = SINGLE_PROCESS.coordinate({ store, config, log: silentLog })
+  const arena = new Arena({ config, store, ownership, sequences, feed, metrics: createMetrics({ defaultMetrics: false }), log: silentLog })
   await arena.start()
 
   const board = boardOf('16-medium')
+  const clients = await seatClients(arena, store, config, board)
+  timeTicks(arena.scheduler, probe)
+  await warmUp(arena, clients)
+  const measured = await measure(arena, clients, probe)
+
+  arena.stopAccepting()
+  arena.scheduler.stop()
+  await arena.ledger.drain()
+  await store.close()
+  printFigures(board, probe, measured)
+}
+
+/** Times each group commit from handing the batch over until it is durable (on the store's writer thread, off the event loop). */
+function timeCommits (store, probe) {
+  const commitBatch = store.commitBatch.bind(store)
+  store.commitBatch = async (batch) => {
+    const started = process.hrtime.bigint()
+    const outcome = await commitBatch(batch)
+    if (probe.measuring) probe.commits.push(Number(process.hrtime.bigint() - started) / 1e6)
+    return outcome
+  }
+}
+
+/** One player in each of ROOMS rooms of `board`, each with its own session and snapshot feed. */
+async function seatClients (arena, store, config, board) {
   const clients = []
   for (let i = 0; i < ROOMS; i++) {
     const session = await createSession(store, config)
@@ -107,25 +129,26 @@ async function run (config) {
     client.feed = room.join(client, snapshotsDelivery)
     clients.push(client)
   }
+  return clients
+}
 
-  // Time each tick and its lag; everything else is the production loop.
-  let measuring = false
-  const tickSamples = []
-  const lagSamples = []
-  const scheduler = arena.scheduler
+/** Times each tick and its lag; everything else is the production loop. */
+function timeTicks (scheduler, probe) {
   const tick = scheduler.onTick
   scheduler.onTick = () => {
     const started = process.hrtime.bigint()
     tick()
-    if (measuring) tickSamples.push(Number(process.hrtime.bigint() - started) / 1e6)
+    if (probe.measuring) probe.ticks.push(Number(process.hrtime.bigint() - started) / 1e6)
   }
   const runTick = scheduler._runTick.bind(scheduler)
   scheduler._runTick = (lagNs) => {
-    if (measuring) lagSamples.push(Number(lagNs) / 1e6)
+    if (probe.measuring) probe.lags.push(Number(lagNs) / 1e6)
     runTick(lagNs)
   }
+}
 
-  // Fill the rooms gradually (one ball per room every 25 ticks) so landings spread out.
+/** Starts the clock and fills the rooms gradually (one ball per room every 25 ticks) so landings spread out. */
+async function warmUp (arena, clients) {
   let filled = 0
   const fill = () => {
     if (filled++ < BALLS_PER_ROOM) for (const client of clients) client.drop()
@@ -135,8 +158,13 @@ async function run (config) {
   arena.run()
   await sleep(WARMUP_SECONDS * 1000)
   clearInterval(filler)
+}
 
-  const before = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: sum(clients, 'drops'), snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+/** The counters before and after MEASURE_SECONDS of steady play, and the mean balls in flight. */
+async function measure (arena, clients, probe) {
+  const scheduler = arena.scheduler
+  const counters = () => ({ ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: sum(clients, 'drops'), snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') })
+  const before = counters()
   let ballSamples = 0
   let ballTotal = 0
   const ballSampler = setInterval(() => {
@@ -144,22 +172,20 @@ async function run (config) {
     ballSamples++
   }, 250)
   const startedAt = performance.now()
-  measuring = true
+  probe.measuring = true
   await sleep(MEASURE_SECONDS * 1000)
-  measuring = false
+  probe.measuring = false
   const seconds = (performance.now() - startedAt) / 1000
   clearInterval(ballSampler)
-  const after = { ticks: scheduler.ticks, dropped: scheduler.droppedTicks, drops: sum(clients, 'drops'), snapshotBytes: sum(clients, 'snapshotBytes'), eventBytes: sum(clients, 'eventBytes') }
+  return { before, after: counters(), seconds, ballsInFlight: ballTotal / Math.max(1, ballSamples) }
+}
 
-  arena.stopAccepting()
-  scheduler.stop()
-  await arena.ledger.drain()
-  await store.close()
-
+/** The two tables: time per tick (with the engine alone for comparison), then throughput. */
+function printFigures (board, probe, { before, after, seconds, ballsInFlight }) {
   const engine = engineOnly(board, quick ? 600 : 1800)
-  const tickStats = summarize(Float64Array.from(tickSamples))
-  const commitStats = summarize(Float64Array.from(commitSamples))
-  const lagStats = summarize(Float64Array.from(lagSamples))
+  const tickStats = summarize(Float64Array.from(probe.ticks))
+  const commitStats = summarize(Float64Array.from(probe.commits))
+  const lagStats = summarize(Float64Array.from(probe.lags))
   const row = (name, s, note = '') => [name, fixed(s.p50, 2), fixed(s.p99, 2), fixed(s.max, 2), fixed(s.mean, 2), note]
 
   console.log(`\nServer ticks: ${int(ROOMS)} rooms × ${BALLS_PER_ROOM} balls (16 rows), 1 client per room, SQLite WAL + synchronous=FULL` +
@@ -168,7 +194,7 @@ async function run (config) {
     [{ title: 'per tick (ms)', align: 'left' }, { title: 'p50' }, { title: 'p99' }, { title: 'max' }, { title: 'mean' }, { title: 'note', align: 'left' }],
     [
       row('tick: step rooms + snapshots', tickStats, `goal p99 < ${GOAL_P99_MS} ms: ${tickStats.p99 < GOAL_P99_MS ? 'met' : 'NOT met'}`),
-      row('group commit (writer thread, until durable)', commitStats, `${int(commitSamples.length)} transactions`),
+      row('group commit (writer thread, until durable)', commitStats, `${int(probe.commits.length)} transactions`),
       row('tick lag (start vs. schedule)', lagStats, ''),
       row('engine alone, same load', engine, 'DropSimulator.step × 1,000')
     ]
@@ -180,7 +206,7 @@ async function run (config) {
     [
       ['ticks per second', fixed(ticks / seconds, 2)],
       ['ticks dropped (stalls > 10 ticks)', int(after.dropped - before.dropped)],
-      ['balls in flight (mean)', int(ballTotal / Math.max(1, ballSamples))],
+      ['balls in flight (mean)', int(ballsInFlight)],
       ['drops recorded per second', int(drops / seconds)],
       ['room frame bytes per second (all clients; snapshots + batched events)', bytes((after.snapshotBytes - before.snapshotBytes) / seconds)],
       ['own-event bytes per second (all clients; JSON)', bytes((after.eventBytes - before.eventBytes) / seconds)]

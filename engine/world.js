@@ -156,6 +156,8 @@ export class World {
 
   addStaticCircle (x, y, radius, material) { this._changeStatics(); return this.statics.addCircle(x, y, radius, material) }
   addStaticSegment (x1, y1, x2, y2, material) { this._changeStatics(); return this.statics.addSegment(x1, y1, x2, y2, material) }
+  // Kept though no board uses boxes: the engine is a general 2D rigid-body engine (docs/engine.md), and
+  // the broad-phase and sweep tests exercise every shape kind against brute force.
   addStaticBox (minX, minY, maxX, maxY, material) { this._changeStatics(); return this.statics.addBox(minX, minY, maxX, maxY, material) }
 
   _changeStatics () {
@@ -232,6 +234,8 @@ export class World {
     st[b + RESTITUTION] = material.restitution
     st[b + FRICTION] = material.friction
     st[b + ALIVE] = 1
+    // Ball–ball contacts: off for every drop (a drop's path depends on its seed alone), kept for the
+    // general engine and its collision tests (restitution and friction between two bodies).
     const pairs = def.collidesWithBodies ?? true
     this.collidesWithBodies[id] = pairs ? 1 : 0
     if (pairs) this._pairCount++
@@ -266,6 +270,10 @@ export class World {
   // ---- time ------------------------------------------------------------
 
   /**
+   * Kept though the game steps its rooms tick by tick (the server's clock, the
+   * page's RoomClock): the engine's own fixed step with accumulator and
+   * interpolation alpha, for anyone embedding it in a render loop
+   * (docs/engine.md); tests/engine/fixed-timestep.test.js holds it to that.
    * Advances by real elapsed time through the fixed-timestep accumulator.
    * Runs at most maxStepsPerUpdate steps (time beyond that is dropped, so a
    * long pause cannot spiral) and returns the interpolation alpha in [0, 1)
@@ -532,7 +540,9 @@ export class World {
   }
 
   /**
-   * Interpolated pose for rendering, into out[0..2] = x, y, angle.
+   * Interpolated pose for rendering, into out[0..2] = x, y, angle. (The
+   * seeds-mode page applies the same formula to the states it records:
+   * client/seeded-room.js.)
    * @param {number} id @param {number} alpha from update()
    * @param {Float64Array | number[]} out
    */
@@ -548,7 +558,7 @@ export class World {
     return out
   }
 
-  /** Kinetic + gravitational potential energy of all live bodies (for tests and diagnostics). */
+  /** Kinetic + gravitational potential energy of all live bodies: what the collision tests hold to "never grows". */
   totalEnergy () {
     let energy = 0
     for (let i = 0; i < this.bodyCount; i++) {

@@ -75,7 +75,6 @@ export const MAX_EVENTS_PER_FRAME = 0xffff
 const FLAG_PLAYER_NOT_HEX = 1
 
 const HEX16 = /^[0-9a-f]{16}$/
-const HEX64 = /^[0-9a-f]{64}$/
 
 /**
  * @typedef {object} DropEvent
@@ -112,16 +111,17 @@ export function encodeDropEvents (tick, hash, drops) {
     const at = DROP_EVENTS_HEADER_BYTES + i * DROP_EVENT_BYTES
     const engine = ENGINE_VERSIONS.indexOf(drop.engineVersion)
     if (engine < 0) throw new RangeError(`unknown engine version ${drop.engineVersion}`)
-    if (!HEX64.test(drop.dropSeed)) throw new RangeError('a drop seed must be 64 hex digits')
     if (drop.slot > 0xffff) throw new RangeError('slot above 65535')
+    if (!writeHex(bytes, at + 32, drop.dropSeed, 64)) throw new RangeError('a drop seed must be 64 hex digits')
     setUint53(view, at, drop.id)
     setUint53(view, at + 8, drop.bet)
     view.setUint32(at + 16, drop.startTick >>> 0, true)
     view.setUint16(at + 20, drop.slot, true)
     bytes[at + 22] = engine
-    if (HEX16.test(drop.playerId)) writeHex(bytes, at + 24, drop.playerId)
-    else bytes[at + 23] = FLAG_PLAYER_NOT_HEX
-    writeHex(bytes, at + 32, drop.dropSeed)
+    if (!writeHex(bytes, at + 24, drop.playerId, 16)) {
+      bytes.fill(0, at + 24, at + 32)
+      bytes[at + 23] = FLAG_PLAYER_NOT_HEX
+    }
   }
   return bytes
 }
@@ -198,8 +198,27 @@ function getUint53 (view, at) {
   return view.getUint32(at + 4, true) * 0x100000000 + view.getUint32(at, true)
 }
 
-function writeHex (bytes, at, hex) {
-  for (let i = 0; i < hex.length; i += 2) bytes[at + (i >> 1)] = parseInt(hex.slice(i, i + 2), 16)
+/**
+ * Writes `hex` (exactly `digits` lowercase hex digits) as bytes at `at`,
+ * with no regular expression or substring per digit (it runs for every
+ * event of every frame); false, with some bytes written, when it is not.
+ */
+function writeHex (bytes, at, hex, digits) {
+  if (typeof hex !== 'string' || hex.length !== digits) return false
+  for (let i = 0; i < digits; i += 2) {
+    const high = hexValue(hex.charCodeAt(i))
+    const low = hexValue(hex.charCodeAt(i + 1))
+    if ((high | low) < 0) return false
+    bytes[at + (i >> 1)] = (high << 4) | low
+  }
+  return true
+}
+
+/** A lowercase hex digit's value, or -1. @param {number} code a UTF-16 code unit */
+function hexValue (code) {
+  if (code >= 48 && code <= 57) return code - 48
+  if (code >= 97 && code <= 102) return code - 87
+  return -1
 }
 
 function readHex (bytes, at, length) {

@@ -78,9 +78,10 @@ export function droppedMessage (drop) {
 /**
  * The `settled` message (without the owner's balance).
  * @param {{ roomId: string, id: number, playerId: string, bet: number }} drop
- * @param {{ bucket: number, multiplier: number, payout: number, ticks: number, tick: number, stateHash: string }} outcome payout in credits
+ * @param {{ bucket: number, multiplier: number, ticks: number, tick: number, stateHash: string }} outcome
+ * @param {number} payout credits
  */
-export function settledMessage (drop, { bucket, multiplier, payout, ticks, tick, stateHash }) {
+export function settledMessage (drop, { bucket, multiplier, ticks, tick, stateHash }, payout) {
   return { type: 'settled', room: drop.roomId, dropId: drop.id, player: drop.playerId, bet: drop.bet, bucket, multiplier, payout, ticks, tick, stateHash }
 }
 

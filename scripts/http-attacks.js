@@ -21,12 +21,14 @@ import { eventually } from '../tools/eventually.js'
  *                                            a server that may open 2,048 files, with honest /api/health probes
  *   node scripts/http-attacks.js probes      /api/health and /metrics flooded from one address while a player pings
  *
- * `--root DIR` runs another checkout's server (to measure before a fix).
+ * `--root DIR` runs another checkout's server (to measure before a fix); NAME=value arguments set its environment.
  */
 const OPERATOR_TOKEN = 'operator-token-for-attack-runs-0123456789'
 const args = process.argv.slice(2)
 const attack = args[0]
 const root = args.includes('--root') ? path.resolve(args[args.indexOf('--root') + 1]) : undefined
+/** NAME=value arguments: the server's environment (e.g. `probes MONITORING_PORT=0`, to flood a public port that has no /api/health). */
+const serverEnv = Object.fromEntries(args.filter((arg) => /^[A-Z][A-Z0-9_]*=/.test(arg)).map((arg) => [arg.slice(0, arg.indexOf('=')), arg.slice(arg.indexOf('=') + 1)]))
 
 const percentile = (values, p) => {
   if (values.length === 0) return NaN
@@ -180,9 +182,22 @@ async function pingingPlayer (base, port, seconds) {
   return rtts
 }
 
+/** GETs `url` every 100 ms until stopped(): each probe's status and time. */
+async function probeEvery (url, stopped) {
+  const results = []
+  while (!stopped()) {
+    const started = performance.now()
+    const response = await fetch(url).catch(() => null)
+    await response?.arrayBuffer()
+    results.push({ status: response?.status ?? 0, ms: performance.now() - started })
+    await sleep(100)
+  }
+  return results
+}
+
 async function probes () {
   for (const pathname of ['/api/health', '/metrics']) {
-    await withServer({}, async (base, port) => {
+    await withServer(serverEnv, async (base, port) => {
       const quiet = await pingingPlayer(base, port, 3)
       const counts = {}
       let stop = false
@@ -194,12 +209,19 @@ async function probes () {
           counts[response.status] = (counts[response.status] ?? 0) + 1
         }
       }))
+      // With a fixed MONITORING_PORT, the orchestrator's probe there every 100 ms meanwhile.
+      const monitoringProbes = serverEnv.MONITORING_PORT > 0 ? probeEvery(`http://127.0.0.1:${serverEnv.MONITORING_PORT}${pathname}`, () => stop) : null
       const loud = await pingingPlayer(base, port, 10)
       stop = true
       await flood
       const total = Object.values(counts).reduce((a, b) => a + b, 0)
       console.log(`${pathname} flood, 16 clients from one address for 10 s: ${(total / 10).toFixed(0)} requests/s (${Object.entries(counts).map(([s, n]) => `${n}×${s}`).join(', ')}); ` +
         `another player's ping p50 / p99: ${percentile(quiet, 0.5).toFixed(1)} / ${percentile(quiet, 0.99).toFixed(1)} ms quiet, ${percentile(loud, 0.5).toFixed(1)} / ${percentile(loud, 0.99).toFixed(1)} ms flooded`)
+      if (monitoringProbes) {
+        const results = await monitoringProbes
+        const ok = results.filter((r) => r.status === 200)
+        console.log(`  probes on the monitoring port meanwhile: ${ok.length}/${results.length} × 200, p50 / p99 ${percentile(results.map((r) => r.ms), 0.5).toFixed(1)} / ${percentile(results.map((r) => r.ms), 0.99).toFixed(1)} ms`)
+      }
     })
   }
 }

@@ -19,6 +19,7 @@ import dropRoutes from './routes/drops.js'
 import shareRoutes from './routes/share.js'
 import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
+import engineSpecRoutes from './routes/engine-spec.js'
 import auditRoutes from './routes/audit.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
@@ -35,7 +36,7 @@ const KEEP_ALIVE_MS = 5000
  * Builds the whole server without listening: tests drive it with
  * app.inject() or listen on port 0; server.js listens on the configured
  * port. Chooses the mode once (coordination/modes.js: alone, or clustered
- * with REDIS_URL), opens (and migrates) its ledger, starts its coordinator
+ * with REDIS_URL), opens (and migrates) its ledger, starts its coordination
  * (which settles the drops a previous process left in flight), then wires
  * the arena and the routes. The 60 Hz clock starts when the app is ready
  * and stops (after settling every ball in flight) when it closes.
@@ -49,6 +50,24 @@ const KEEP_ALIVE_MS = 5000
  * @param {boolean} [options.announceToken] log a generated operator token (default true; false when the start-up banner shows it)
  */
 export async function buildApp (config, options = {}) {
+  const app = createFastify(config, options)
+  const { store, coordination, metrics, arena, addressLimits } = await startGame(app, config, options)
+  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
+  await registerPlugins(app, { config, arena, addressLimits })
+  await registerRoutes(app, { config, store, coordination, metrics, arena, authGuard, addressLimits })
+  await monitoringListener(app, config, { metrics, arena })
+  app.addHook('onReady', async () => arena.run())
+  app.addHook('onClose', async () => {
+    arena.scheduler.stop()
+    await coordination.close()
+    await addressLimits.close()
+    await store.close()
+  })
+  return app
+}
+
+/** Fastify with the server's logger, timeouts and named errors for what fails before routing. */
+function createFastify (config, options) {
   const app = Fastify({
     logger: options.logger ?? {
       level: config.logLevel,
@@ -82,16 +101,29 @@ export async function buildApp (config, options = {}) {
   app.addHook('onRequest', requireHost)
   // Safe integers only, bodies as sent, no extra properties (routes/request-validation.js).
   app.setValidatorCompiler(requestValidatorCompiler())
+  app.setErrorHandler(replyWithError)
+  if (config.operatorTokenGenerated && options.announceToken !== false) {
+    app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
+  }
+  return app
+}
 
+/**
+ * Chooses the mode, opens its ledger and starts the arena on it (its
+ * room ownership settles what a previous process left in flight); caps the
+ * connections and says where per-address limits are counted.
+ */
+async function startGame (app, config, options) {
   const mode = modeOf(config)
   const store = options.store ?? await mode.openStore(config.database)
-  const coordinator = mode.createCoordinator({ store, config, log: app.log })
+  const coordination = mode.coordinate({ store, config, log: app.log })
+  const { ownership, sequences, feed } = coordination
   const metrics = createMetrics()
-  const arena = new Arena({ config, store, coordinator, metrics, log: app.log, tickRate: options.tickRate })
+  const arena = new Arena({ config, store, ownership, sequences, feed, metrics, log: app.log, tickRate: options.tickRate })
   try {
     await arena.start()
   } catch (error) {
-    await coordinator.close().catch(() => {})
+    await coordination.close().catch(() => {})
     await store.close().catch(() => {})
     throw error
   }
@@ -102,19 +134,18 @@ export async function buildApp (config, options = {}) {
     metrics
   }).attach(app.server)
   const addressLimits = mode.createAddressLimits({ config, log: app.log })
-  const authGuard = new AuthGuard({ limiter: addressLimits.authFailures, metrics, log: app.log })
+  metrics.addressShareWorkers.set(addressLimits.workerShare.workers)
+  addressLimits.workerShare.onChange((workers) => metrics.addressShareWorkers.set(workers))
   app.decorate('arena', arena)
   app.addHook('onListen', async () => {
     const address = app.server.address()
-    if (address && typeof address === 'object') coordinator.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
+    if (address && typeof address === 'object') ownership.setListenUrl(`http://${address.family === 'IPv6' ? `[${address.address}]` : address.address}:${address.port}`)
   })
+  return { store, coordination, metrics, arena, addressLimits }
+}
 
-  if (config.operatorTokenGenerated && options.announceToken !== false) {
-    app.log.warn({ operatorToken: config.operatorToken }, 'OPERATOR_TOKEN not set; generated this one for the operator API (set OPERATOR_TOKEN to keep it across restarts)')
-  }
-
-  app.setErrorHandler(replyWithError)
-
+/** Security headers, compression, the HTTP rate limit and WebSockets (which close after the arena). */
+async function registerPlugins (app, { config, arena, addressLimits }) {
   await app.register(helmet, {
     contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
   })
@@ -130,6 +161,7 @@ export async function buildApp (config, options = {}) {
     keyGenerator: (request) => request.ip ?? 'unknown',
     ...addressLimits.rateLimitOptions
   })
+  app.addHook('onRoute', rateLimitBeforeAuth)
   await app.register(websocket, {
     options: { maxPayload: config.wsMaxPayload },
     // Settle every ball in flight and say goodbye before the sockets go;
@@ -142,37 +174,74 @@ export async function buildApp (config, options = {}) {
       }, done)
     }
   })
+}
 
+/** Every route, each given the services it uses, not the whole arena. */
+async function registerRoutes (app, { config, store, coordination, metrics, arena, authGuard, addressLimits }) {
+  const { ownership, feed } = coordination
   // Before the routes: its onRoute hook documents every route registered after it.
   await app.register(apiDocs, { config })
   // Also before them: 405 with Allow for a method a path does not have, 404 for a path no route has.
   await app.register(methodNotAllowed, {
     notFound: (request, reply) => reply.code(404).send({ code: 'E_NOT_FOUND', message: `no route ${request.method} ${redactToken(request.url)}` })
   })
-  // Each route gets the services it uses, not the whole arena.
   const { accounts } = arena
-  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, coordinator })
+  const seedChanges = new SeedChanges({ ledger: arena.ledger, store, feed })
   await app.register(sessionRoutes, { config, store, accounts, authGuard })
   await app.register(seedRoutes, { store, accounts, seedChanges, authGuard })
   await app.register(dropRoutes, { store, authGuard })
   await app.register(shareRoutes, { store })
-  await app.register(roomRoutes, { coordinator })
+  await app.register(roomRoutes, { ownership })
   await app.register(clientReportRoutes)
-  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
-  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard })
-  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
+  await app.register(engineSpecRoutes)
+  if (config.monitoring.onPublicPort) await registerMonitoring(app, config, { metrics, arena })
+  await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard, workerShare: addressLimits.workerShare })
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
+}
 
-  app.addHook('onReady', async () => arena.run())
-  app.addHook('onClose', async () => {
-    arena.scheduler.stop()
-    await coordinator.close()
-    await addressLimits.close()
-    await store.close()
+/** /api/health and /metrics (each with its MONITORING_RATE_LIMIT where the rate limit is registered). */
+async function registerMonitoring (app, config, { metrics, arena }) {
+  await app.register(healthRoutes, { health: () => arena.health(), rateLimit: config.monitoringRateLimit })
+  await app.register(metricsRoutes, { metrics, rateLimit: config.monitoringRateLimit })
+}
+
+/**
+ * MONITORING_PORT set: /api/health and /metrics on a listener of their own
+ * (MONITORING_HOST, loopback by default), so that probes and scrapes never
+ * queue behind the public port's traffic and a client flooding the public
+ * port cannot make the server render them. No rate limit there: whoever
+ * reaches it is trusted. It listens when the app is ready (a port in use
+ * stops the start) and closes with it; `app.monitoring` is its instance.
+ */
+async function monitoringListener (app, config, services) {
+  const { port, host } = config.monitoring
+  if (port === null) return
+  const monitoring = Fastify({ loggerInstance: app.log.child({ listener: 'monitoring' }), disableRequestLogging: true })
+  monitoring.setErrorHandler(replyWithError)
+  await registerMonitoring(monitoring, config, services)
+  app.decorate('monitoring', monitoring)
+  app.addHook('onReady', async () => {
+    await monitoring.listen({ port, host })
+    app.log.info({ address: monitoring.addresses()[0] }, 'monitoring listener: /api/health and /metrics')
   })
-  return app
+  app.addHook('onClose', async () => monitoring.close())
+}
+
+/** The hooks that check a token (server/auth.js). */
+const AUTH_HOOKS = new Set(['playerOnly', 'operatorOnly'])
+
+/**
+ * onRoute, after the rate limit's own (which appends its hook to the route's
+ * onRequest): the token checks move behind it, so a request is counted by
+ * HTTP_RATE_LIMIT before its token is looked at, one with no token at all
+ * (401) included. A plugin's own onRequest hooks run before any route's,
+ * so the operator routes add theirs to each route too (routes/audit.js).
+ */
+function rateLimitBeforeAuth (route) {
+  const hooks = [route.onRequest ?? []].flat()
+  route.onRequest = [...hooks.filter((hook) => !AUTH_HOOKS.has(hook.name)), ...hooks.filter((hook) => AUTH_HOOKS.has(hook.name))]
 }
 
 /** HTTP errors as `{ code, message }`: named codes keep their status, bad input is a 4xx, never a 500. */

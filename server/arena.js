@@ -5,31 +5,37 @@ import { TickScheduler, SIMULATION_HZ } from './rooms/tick-scheduler.js'
 import { DropLifecycle } from './game/drop-lifecycle.js'
 import { gameError } from './errors.js'
 import { deliveryNamed, emptyTally } from './realtime/deliveries.js'
-import { joinedMessage } from '../protocol/server-messages.js'
+import { joinedMessage, balanceMessage } from '../protocol/server-messages.js'
+import { toCredits } from './game/money.js'
 import { DESYNC_CHECK_SECONDS } from './realtime/delivery-seeds.js'
 
 /**
  * The game: rooms on one clock and the connections in them. Each tick steps
  * every room, seals the tick's ledger batch and lets each room's feeds
  * (server/realtime/deliveries.js) send what is due. A drop's life (money,
- * record, announcements) is the drop lifecycle's (game/drop-lifecycle.js); which rooms this process may run,
- * and where nonces and drop ids come from, the coordinator's
- * (coordination/coordinator.js), the same interface alone or clustered.
+ * record, announcements) is the drop lifecycle's (game/drop-lifecycle.js). Which rooms this process may
+ * run is room ownership's, where nonces and drop ids come from the sequences', and what other processes
+ * change in accounts reaches them through the account feed (coordination/: one small interface each,
+ * the same alone or clustered); none of them sees the arena, only the services it hands them.
  */
 export class Arena {
   /**
    * @param {object} options
    * @param {import('./config.js').Config} options.config
    * @param {any} options.store the ledger store (see store/sqlite-store.js)
-   * @param {import('./coordination/coordinator.js').Coordinator} options.coordinator
+   * @param {import('./coordination/room-ownership.js').RoomOwnership} options.ownership
+   * @param {import('./coordination/sequences.js').Sequences} options.sequences
+   * @param {import('./coordination/account-feed.js').AccountFeed} options.feed
    * @param {import('./metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
    * @param {number} [options.tickRate] wall-clock ticks per second (SIMULATION_HZ; tests may run faster)
    */
-  constructor ({ config, store, coordinator, metrics, log, tickRate = SIMULATION_HZ }) {
+  constructor ({ config, store, ownership, sequences, feed, metrics, log, tickRate = SIMULATION_HZ }) {
     this.config = config
     this.store = store
-    this.coordinator = coordinator
+    this.ownership = ownership
+    this.sequences = sequences
+    this.feed = feed
     this.metrics = metrics
     this.log = log
     this.accepting = true
@@ -40,10 +46,10 @@ export class Arena {
       checkEvery: DESYNC_CHECK_SECONDS * SIMULATION_HZ,
       onChange: (room) => {
         metrics.rooms.set(this.rooms.size)
-        if (this.rooms.get(room.id) !== room) coordinator.roomDisposed(room.id)
+        if (this.rooms.get(room.id) !== room) ownership.disposed(room.id)
       }
     })
-    this.drops = new DropLifecycle({ config, store, accounts: this.accounts, coordinator, metrics, log })
+    this.drops = new DropLifecycle({ config, store, accounts: this.accounts, sequences, feed, metrics, log })
     /** The tick's group commit; seed changes and lease releases queue behind the drops in it. */
     this.ledger = this.drops.ledger
     /** Ping every connection this often (in ticks, from WS_HEARTBEAT_MS) and drop those that did not answer the last ping. */
@@ -54,9 +60,20 @@ export class Arena {
     this._tally = emptyTally()
   }
 
-  /** Settles what the last run left (coordinator.start), then starts the clock. */
+  /**
+   * Before the clock: the first drop ids, the feed of other processes'
+   * account changes, then room ownership (which settles what the last run left).
+   */
   async start () {
-    await this.coordinator.start(this)
+    await this.sequences.start()
+    await this.feed.start({ accounts: this.accounts, onBalanceChanged: (account, balance) => this._balanceChangedElsewhere(account, balance) })
+    await this.ownership.start({ rooms: this.rooms, ledger: this.ledger, onRoomLost: (roomId) => this.evictRoom(roomId) })
+  }
+
+  /** Another process committed this balance for an account held here: shown to the player's connections. */
+  _balanceChangedElsewhere (account, balance) {
+    account.balance = balance
+    for (const connection of account.connections) connection.sendJson(balanceMessage(toCredits(balance)))
   }
 
   /** Starts the clock. */
@@ -155,8 +172,8 @@ export class Arena {
     if (!this.accepting) throw gameError('E_UNAVAILABLE')
     const delivery = deliveryNamed(deliveryName)
     const id = /** @type {string} */ (roomId)
-    if (this.rooms.get(id) || !parseRoomId(roomId) || this.coordinator.ownsRoom(id)) return this._join(connection, roomId, delivery)
-    return this.coordinator.claimRoom(id).then(() => {
+    if (this.rooms.get(id) || !parseRoomId(roomId) || this.ownership.owns(id)) return this._join(connection, roomId, delivery)
+    return this.ownership.claim(id).then(() => {
       if (connection.closed) throw gameError('E_UNAVAILABLE', 'connection closed')
       return this._join(connection, id, delivery)
     })

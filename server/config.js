@@ -86,6 +86,14 @@ export const CONFIG_SCHEMA = {
     MAX_CATCH_UP_TICKS: integer(1, 600, '10'),
     HTTP_RATE_LIMIT: integer(1, 1e9, '600'),
     MONITORING_RATE_LIMIT: integer(1, 1e9, '600'),
+    MONITORING_PORT: {
+      type: 'string',
+      default: '',
+      errorMessage: 'must be a port from 0 to 65535, or unset (no monitoring listener)',
+      pattern: '^\\s*(|\\d{1,4}|[1-5]\\d{4}|6[0-4]\\d{3}|65[0-4]\\d{2}|655[0-2]\\d|6553[0-5])\\s*$'
+    },
+    MONITORING_HOST: nonEmpty('127.0.0.1'),
+    MONITORING_ON_PUBLIC_PORT: oneOf(['true', 'false'], 'false'),
     AUTH_FAILURE_LIMIT: integer(1, 1e9, '10'),
     AUTH_BLOCK_MS: integer(1000, 86_400_000, '60000'),
     HTTP_IDLE_TIMEOUT_MS: integer(100, 3600000, '30000'),
@@ -160,6 +168,8 @@ export const CONFIG_SCHEMA = {
  * @property {number} wsHardBuffer bytes queued on a socket above which it is closed
  * @property {number} maxCatchUpTicks @property {number} httpRateLimit per IP per minute
  * @property {number} monitoringRateLimit requests per IP per minute to /metrics, and apart to /api/health
+ * @property {{ port: number | null, host: string, onPublicPort: boolean }} monitoring where /metrics and /api/health
+ *   are served: their own listener (port null: none), and whether the public port answers them too
  * @property {number} authFailureLimit wrong operator or session tokens per IP per minute before the IP is blocked (limits/auth-failures.js)
  * @property {number} authBlockMs the first such block; each further one in a row lasts twice as long, up to an hour
  * @property {number} sessionRateLimit new sessions per IP per minute
@@ -278,6 +288,7 @@ export function loadConfig (env = process.env) {
     maxCatchUpTicks: values.MAX_CATCH_UP_TICKS,
     httpRateLimit: values.HTTP_RATE_LIMIT,
     monitoringRateLimit: values.MONITORING_RATE_LIMIT,
+    monitoring: monitoringListener(values),
     authFailureLimit: values.AUTH_FAILURE_LIMIT,
     authBlockMs: values.AUTH_BLOCK_MS,
     httpIdleTimeoutMs: values.HTTP_IDLE_TIMEOUT_MS,
@@ -392,4 +403,14 @@ function isProxyAddress (entry) {
   const family = net.isIP(address)
   const validPrefix = prefix === undefined || (/^\d+$/.test(prefix) && Number(prefix) <= (family === 6 ? 128 : 32))
   return family !== 0 && validPrefix && extra === undefined
+}
+
+/**
+ * MONITORING_PORT unset: /metrics and /api/health on the public port, as
+ * ever. Set: on a listener of their own (MONITORING_HOST, loopback by
+ * default), and on the public port only with MONITORING_ON_PUBLIC_PORT=true.
+ */
+function monitoringListener (values) {
+  const port = values.MONITORING_PORT.trim() === '' ? null : Number(values.MONITORING_PORT)
+  return { port, host: values.MONITORING_HOST, onPublicPort: port === null || values.MONITORING_ON_PUBLIC_PORT === 'true' }
 }

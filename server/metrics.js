@@ -23,6 +23,7 @@ export function createMetrics ({ defaultMetrics = true } = {}) {
     registry,
     rooms: new Gauge({ name: 'plinko_rooms', help: 'Rooms alive', registers }),
     clients: new Gauge({ name: 'plinko_ws_clients', help: 'Open WebSocket connections', registers }),
+    addressShareWorkers: new Gauge({ name: 'plinko_ws_address_limit_workers', help: 'Processes dividing the per-address WebSocket budgets (this one enforces 1/N of each)', registers }),
     ballsInFlight: new Gauge({ name: 'plinko_balls_in_flight', help: 'Balls in flight across all rooms', registers }),
     settlementsWaiting: new Gauge({ name: 'plinko_settlements_waiting', help: 'Payouts the ledger refused, waiting for their retry (/api/health says degraded meanwhile)', registers }),
     tickDuration: new Histogram({ name: 'plinko_tick_duration_seconds', help: 'Work per 60 Hz tick: stepping every room and broadcasting snapshots', buckets: TICK_SECONDS, registers }),

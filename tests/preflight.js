@@ -15,7 +15,8 @@ import path from 'node:path'
 
 /** What each run needs: a program, and the Debian package that has it. */
 export const NEEDS = {
-  test: [['initdb', 'postgresql'], ['pg_ctl', 'postgresql'], ['redis-server', 'redis-server'], ['nginx', 'nginx']],
+  // python3 with venv: the engine's second implementation (verifier-python/, tests/spec/).
+  test: [['initdb', 'postgresql'], ['pg_ctl', 'postgresql'], ['redis-server', 'redis-server'], ['nginx', 'nginx'], ['python3', 'python3-venv']],
   e2e: [['initdb', 'postgresql'], ['pg_ctl', 'postgresql'], ['redis-server', 'redis-server'], ['chromium', 'chromium']]
 }
 

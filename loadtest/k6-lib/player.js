@@ -99,53 +99,44 @@ function logOnce (text) {
  * The player's WebSocket, from `welcome` to close. State lives in closure
  * variables, not object properties: k6's JavaScript engine (sobek) looks
  * properties up in a map on every access, and the message handler runs for
- * every frame the server sends (tens of thousands per second).
+ * every frame the server sends (tens of thousands per second). What only
+ * the player's own messages touch (a few per second) lives in ownDrops and
+ * socketLife.
  */
 function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects = 0) {
   const every = config.jitterSampleEvery
-  const interval = config.dropIntervalMs
-  const bet = config.bet
   const seeds = config.delivery === 'seeds'
   let playerId = null
-  let balance = 0
-  let snapshotEvery = 3
-  let seq = 0
-  /** ref → sent at (ms): sent, not yet acknowledged by `dropped` or refused. */
-  const pending = new Map()
-  /** dropId → sent at (ms): announced, not yet settled. */
-  const inFlight = new Map()
-  let dropTimer = null
-  let joinedAt = 0
   let openedAt = 0
-  let leaving = false
-  let closedByUs = false
-  let finished = false
   let jsonMessages = 0
   let jsonBytes = 0
   let frames = 0
   let frameBytes = 0
   let dropEventCount = 0
   let phase = 0
-  let sampleTick = -1
-  let sampleAt = 0
 
   const ws = new WebSocket(`${wsUrl}?token=${token}`, null, { tags: { name: '/ws' } })
   ws.binaryType = 'arraybuffer'
+  const drops = ownDrops(config.bet)
+  const sampler = snapshotSampler()
+  const life = socketLife(config, ws, drops, leaveAt, {
+    redirect: (ownerUrl) => connect(config, room, token, leaveAt, ownerUrl, redirects + 1),
+    finished: () => reportTraffic({ seeds, openedAt, jsonMessages, jsonBytes, frames, frameBytes, dropEventCount })
+  })
   ws.onopen = () => { openedAt = Date.now() }
-  ws.onerror = (event) => {
-    if (closedByUs) return
-    metrics.errors.add(1, { code: 'WS_ERROR' })
-    logOnce(`websocket error: ${event.error}`)
-  }
-  ws.onclose = (event) => closed(event.code)
+  ws.onerror = (event) => life.socketError(event)
+  ws.onclose = (event) => life.closed(event.code)
   ws.onmessage = (event) => {
     const data = event.data
     if (typeof data !== 'string') {
       frames++
       frameBytes += data.byteLength
-      if (seeds) return dropEvents(data)
+      if (seeds) {
+        dropEventCount += countDropEvents(data)
+        return
+      }
       // Time one pair of consecutive frames in every `every`.
-      if (++phase >= every) sampleSnapshot(data, event.timestamp)
+      if (++phase >= every && sampler.sample(data, event.timestamp)) phase = 0
       return
     }
     jsonMessages++
@@ -154,14 +145,6 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     if (playerId !== null && data.indexOf(playerId) === -1 && (data.startsWith('{"type":"dropped"') || data.startsWith('{"type":"settled"'))) return
     receive(data, event.timestamp)
   }
-
-  const joinTimer = setTimeout(() => {
-    if (joinedAt || finished) return
-    metrics.errors.add(1, { code: 'X_JOIN_TIMEOUT' })
-    logOnce(`no welcome/joined within ${JOIN_TIMEOUT_MS} ms`)
-    close()
-  }, JOIN_TIMEOUT_MS)
-  setTimeout(leave, Math.max(0, leaveAt - Date.now()))
 
   function receive (data, at) {
     let message
@@ -174,70 +157,132 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     switch (message.type) {
       case 'welcome':
         playerId = message.playerId
-        balance = message.balance
+        drops.setBalance(message.balance)
         ws.send(JSON.stringify(seeds ? { type: 'join', room, delivery: 'seeds' } : { type: 'join', room }))
         return
-      case 'joined': return joined(message)
-      case 'dropped': if (message.player === playerId) dropped(message, at); return
-      case 'settled': if (message.player === playerId) settled(message, at); return
-      case 'error': return error(message)
+      case 'joined':
+        sampler.setSnapshotEvery(message.snapshotEvery)
+        return life.joined()
+      case 'dropped': if (message.player === playerId) drops.dropped(message, at); return
+      case 'settled': if (message.player === playerId) drops.settled(message, at); return
+      case 'error':
+        if (message.code === 'E_WRONG_NODE' && !life.hasJoined() && redirects < MAX_REDIRECTS && ownerSocketUrl(message.owner) !== null) return life.moveTo(ownerSocketUrl(message.owner))
+        return refused(message, drops)
     }
   }
+}
 
-  function joined (message) {
-    joinedAt = Date.now()
-    clearTimeout(joinTimer)
-    snapshotEvery = message.snapshotEvery
-    if (interval <= 0 || leaving) return
-    // A random phase, so the players' drops do not arrive in waves.
-    setTimeout(() => {
-      if (leaving) return
-      drop()
-      dropTimer = setInterval(drop, interval)
-    }, Math.random() * interval)
-  }
+/**
+ * The socket's life around the game: the join timeout, dropping every
+ * DROP_INTERVAL from a random phase once joined, leaving at `leaveAt`
+ * (waiting at most DRAIN for the last settles), a redirect to the room's
+ * owner, and the close. `finished` is called once, on a close that ends
+ * the player (not on a redirect).
+ */
+function socketLife (config, ws, drops, leaveAt, { redirect, finished }) {
+  const interval = config.dropIntervalMs
+  let dropTimer = null
+  let joinedAt = 0
+  let leaving = false
+  let closedByUs = false
+  let done = false
+  const joinTimer = setTimeout(() => {
+    if (joinedAt || done) return
+    metrics.errors.add(1, { code: 'X_JOIN_TIMEOUT' })
+    logOnce(`no welcome/joined within ${JOIN_TIMEOUT_MS} ms`)
+    close()
+  }, JOIN_TIMEOUT_MS)
+  setTimeout(leave, Math.max(0, leaveAt - Date.now()))
 
   function drop () {
-    if (leaving || finished) return
-    const ref = ++seq
-    pending.set(ref, Date.now())
-    ws.send(JSON.stringify({ type: 'drop', bet, ref }))
-    metrics.dropsSent.add(1)
+    if (leaving || done) return
+    drops.send(ws)
   }
 
-  function dropped (message, at) {
-    const sentAt = pending.get(message.ref)
-    if (sentAt === undefined) {
-      metrics.errors.add(1, { code: 'X_UNKNOWN_DROP' })
-      logOnce(`dropped ${message.dropId} with ref ${message.ref} that this player did not send`)
-    } else {
-      pending.delete(message.ref)
-      metrics.dropAck.add(at - sentAt)
-      inFlight.set(message.dropId, sentAt)
-    }
-    checkBalance(message, milli(balance) - message.bet * 1000)
+  /** Stops dropping, waits for the last settles (at most DRAIN), then closes. */
+  function leave () {
+    if (leaving || done) return
+    leaving = true
+    if (dropTimer !== null) clearInterval(dropTimer)
+    const deadline = Date.now() + config.drainS * 1000
+    const poll = setInterval(() => {
+      if (done || drops.allAnswered() || Date.now() >= deadline) {
+        clearInterval(poll)
+        close()
+      }
+    }, DRAIN_POLL_MS)
   }
 
-  function settled (message, at) {
-    const sentAt = inFlight.get(message.dropId)
-    if (sentAt === undefined) {
-      metrics.errors.add(1, { code: 'X_UNKNOWN_SETTLE' })
-      logOnce(`settled ${message.dropId} that was never announced to this player`)
-    } else {
-      inFlight.delete(message.dropId)
-      const latency = at - sentAt
-      metrics.dropSettled.add(latency)
-      // The ball takes its first step on the tick after the drop arrived.
-      metrics.dropSettleOverhead.add(latency - (message.ticks - 1) * TICK_MS)
-      metrics.dropsSettled.add(1)
-    }
-    const payout = message.bet * Math.round(message.multiplier * 1000)
-    if (milli(message.payout) !== payout) {
-      metrics.errors.add(1, { code: 'X_BAD_PAYOUT' })
-      logOnce(`drop ${message.dropId}: payout ${message.payout}, expected ${payout / 1000}`)
-    }
-    checkBalance(message, milli(balance) + milli(message.payout))
+  function close () {
+    if (done) return
+    closedByUs = true
+    ws.close(1000)
   }
+
+  return {
+    hasJoined: () => joinedAt !== 0,
+    joined () {
+      joinedAt = Date.now()
+      clearTimeout(joinTimer)
+      if (interval <= 0 || leaving) return
+      // A random phase, so the players' drops do not arrive in waves.
+      setTimeout(() => {
+        if (leaving) return
+        drop()
+        dropTimer = setInterval(drop, interval)
+      }, Math.random() * interval)
+    },
+    /** Leaves this socket quietly (nothing was dropped on it yet) and plays on from the room's owner. */
+    moveTo (ownerUrl) {
+      done = true
+      closedByUs = true
+      clearTimeout(joinTimer)
+      metrics.redirects.add(1)
+      ws.close(1000)
+      redirect(ownerUrl)
+    },
+    socketError (event) {
+      if (closedByUs) return
+      metrics.errors.add(1, { code: 'WS_ERROR' })
+      logOnce(`websocket error: ${event.error}`)
+    },
+    closed (code) {
+      if (done) return
+      done = true
+      leaving = true
+      clearTimeout(joinTimer)
+      if (dropTimer !== null) clearInterval(dropTimer)
+      reportClose(code, closedByUs, drops)
+      finished()
+    }
+  }
+}
+
+/** A close that ends the player: counted if the server closed, and the drops left unanswered. */
+function reportClose (code, closedByUs, drops) {
+  if (!closedByUs) {
+    metrics.errors.add(1, { code: `WS_CLOSE_${code}` })
+    logOnce(`server closed the connection: ${code}`)
+  }
+  const unsettled = drops.unanswered()
+  metrics.unsettledDrops.add(unsettled)
+  if (unsettled > 0) logOnce(`${unsettled} drops unsettled when leaving`)
+  metrics.errors.add(0)
+  metrics.balanceMismatches.add(0)
+}
+
+/**
+ * The player's own drops: sent, acknowledged (`dropped`), settled, and the
+ * running balance each of those carries, checked to the milli-credit.
+ * @param {number} bet
+ */
+function ownDrops (bet) {
+  let balance = 0
+  let seq = 0
+  /** ref → sent at (ms): sent, not yet acknowledged by `dropped` or refused. */
+  const pending = new Map()
+  /** dropId → sent at (ms): announced, not yet settled. */
+  const inFlight = new Map()
 
   /** @param {number} expected milli-credits */
   function checkBalance (message, expected) {
@@ -249,36 +294,83 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
     balance = message.balance
   }
 
-  function error (message) {
-    if (message.code === 'E_WRONG_NODE' && !joinedAt && redirects < MAX_REDIRECTS && ownerSocketUrl(message.owner) !== null) return moveTo(ownerSocketUrl(message.owner))
-    metrics.errors.add(1, { code: message.code })
-    logOnce(`error ${message.code}: ${message.message}`)
-    // A refused drop is never debited or announced.
-    if (message.ref !== undefined) pending.delete(message.ref)
+  return {
+    setBalance (credits) { balance = credits },
+    send (ws) {
+      const ref = ++seq
+      pending.set(ref, Date.now())
+      ws.send(JSON.stringify({ type: 'drop', bet, ref }))
+      metrics.dropsSent.add(1)
+    },
+    dropped (message, at) {
+      const sentAt = pending.get(message.ref)
+      if (sentAt === undefined) {
+        metrics.errors.add(1, { code: 'X_UNKNOWN_DROP' })
+        logOnce(`dropped ${message.dropId} with ref ${message.ref} that this player did not send`)
+      } else {
+        pending.delete(message.ref)
+        metrics.dropAck.add(at - sentAt)
+        inFlight.set(message.dropId, sentAt)
+      }
+      checkBalance(message, milli(balance) - message.bet * 1000)
+    },
+    settled (message, at) {
+      const sentAt = inFlight.get(message.dropId)
+      if (sentAt === undefined) {
+        metrics.errors.add(1, { code: 'X_UNKNOWN_SETTLE' })
+        logOnce(`settled ${message.dropId} that was never announced to this player`)
+      } else {
+        inFlight.delete(message.dropId)
+        const latency = at - sentAt
+        metrics.dropSettled.add(latency)
+        // The ball takes its first step on the tick after the drop arrived.
+        metrics.dropSettleOverhead.add(latency - (message.ticks - 1) * TICK_MS)
+        metrics.dropsSettled.add(1)
+      }
+      const payout = message.bet * Math.round(message.multiplier * 1000)
+      if (milli(message.payout) !== payout) {
+        metrics.errors.add(1, { code: 'X_BAD_PAYOUT' })
+        logOnce(`drop ${message.dropId}: payout ${message.payout}, expected ${payout / 1000}`)
+      }
+      checkBalance(message, milli(balance) + milli(message.payout))
+    },
+    /** A refused drop is never debited or announced. */
+    refused (ref) { pending.delete(ref) },
+    unanswered: () => pending.size + inFlight.size,
+    allAnswered: () => pending.size === 0 && inFlight.size === 0
   }
+}
 
-  /** Leaves this socket quietly (nothing was dropped on it yet) and plays on from the room's owner. */
-  function moveTo (ownerUrl) {
-    finished = true
-    closedByUs = true
-    clearTimeout(joinTimer)
-    metrics.redirects.add(1)
-    ws.close(1000)
-    connect(config, room, token, leaveAt, ownerUrl, redirects + 1)
-  }
+/** An error frame that is not a redirect: counted by code, and a refused drop forgotten. */
+function refused (message, drops) {
+  metrics.errors.add(1, { code: message.code })
+  logOnce(`error ${message.code}: ${message.message}`)
+  if (message.ref !== undefined) drops.refused(message.ref)
+}
 
-  /**
-   * Called on frame `every`·k (remember it) and the one after (time the pair).
-   * The tick is the uint32 LE at offset 1 of the snapshot, which a room frame
-   * (kind 2: uint32 events length L at offset 1, then L bytes of events)
-   * carries at offset 5 + L.
-   */
-  function sampleSnapshot (buffer, at) {
-    const head = new Uint8Array(buffer, 0, 5)
-    const start = head[0] === 2 ? 5 + (head[1] | (head[2] << 8) | (head[3] << 16)) + head[4] * 16777216 : 0
-    const b = new Uint8Array(buffer, start + 1, 4)
-    const tick = (b[0] | (b[1] << 8) | (b[2] << 16)) + b[3] * 16777216
-    if (sampleTick >= 0) {
+/**
+ * Times pairs of consecutive snapshots: `sample` is called on frame
+ * `every`·k (it remembers the tick) and the one after (it times the pair and
+ * returns true). The tick is the uint32 LE at offset 1 of the snapshot,
+ * which a room frame (kind 2: uint32 events length L at offset 1, then L
+ * bytes of events) carries at offset 5 + L.
+ */
+function snapshotSampler () {
+  let snapshotEvery = 3
+  let sampleTick = -1
+  let sampleAt = 0
+  return {
+    setSnapshotEvery (ticks) { snapshotEvery = ticks },
+    sample (buffer, at) {
+      const head = new Uint8Array(buffer, 0, 5)
+      const start = head[0] === 2 ? 5 + (head[1] | (head[2] << 8) | (head[3] << 16)) + head[4] * 16777216 : 0
+      const b = new Uint8Array(buffer, start + 1, 4)
+      const tick = (b[0] | (b[1] << 8) | (b[2] << 16)) + b[3] * 16777216
+      if (sampleTick < 0) {
+        sampleTick = tick
+        sampleAt = at
+        return false
+      }
       const ticks = tick - sampleTick
       if (ticks > 0) {
         const elapsed = at - sampleAt
@@ -286,78 +378,44 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
         metrics.snapshotJitter.add(Math.abs(elapsed - ticks * TICK_MS))
       }
       sampleTick = -1
-      phase = 0
-    } else {
-      sampleTick = tick
-      sampleAt = at
+      return true
     }
   }
+}
 
-  /**
-   * Seeds mode: a drop-events frame (protocol/drop-events-codec.js: kind 3,
-   * N at offset 13, 15 + 64·N bytes); its events are counted, not decoded
-   * (k6's CPU is shared with the server). Anything else is an error.
-   */
-  function dropEvents (buffer) {
-    const bytes = new Uint8Array(buffer)
-    if (bytes[0] !== 3) {
-      metrics.errors.add(1, { code: 'X_UNEXPECTED_SNAPSHOT' })
-      return logOnce(`binary frame of kind ${bytes[0]} on a seeds socket`)
-    }
-    const count = bytes.length >= 15 ? bytes[13] | (bytes[14] << 8) : -1
-    if (count < 0 || bytes.length !== 15 + 64 * count) {
-      metrics.errors.add(1, { code: 'X_BAD_FRAME' })
-      return logOnce(`drop-events frame of ${bytes.length} bytes`)
-    }
-    dropEventCount += count
+/**
+ * Seeds mode: the events in a drop-events frame (protocol/drop-events-codec.js:
+ * kind 3, N at offset 13, 15 + 64·N bytes), counted, not decoded (k6's CPU
+ * is shared with the server). Anything else is an error (and counts 0).
+ */
+function countDropEvents (buffer) {
+  const bytes = new Uint8Array(buffer)
+  if (bytes[0] !== 3) {
+    metrics.errors.add(1, { code: 'X_UNEXPECTED_SNAPSHOT' })
+    logOnce(`binary frame of kind ${bytes[0]} on a seeds socket`)
+    return 0
   }
-
-  /** Stops dropping, waits for the last settles (at most DRAIN), then closes. */
-  function leave () {
-    if (leaving || finished) return
-    leaving = true
-    if (dropTimer !== null) clearInterval(dropTimer)
-    const deadline = Date.now() + config.drainS * 1000
-    const poll = setInterval(() => {
-      if (finished || (pending.size === 0 && inFlight.size === 0) || Date.now() >= deadline) {
-        clearInterval(poll)
-        close()
-      }
-    }, DRAIN_POLL_MS)
+  const count = bytes.length >= 15 ? bytes[13] | (bytes[14] << 8) : -1
+  if (count < 0 || bytes.length !== 15 + 64 * count) {
+    metrics.errors.add(1, { code: 'X_BAD_FRAME' })
+    logOnce(`drop-events frame of ${bytes.length} bytes`)
+    return 0
   }
+  return count
+}
 
-  function close () {
-    if (finished) return
-    closedByUs = true
-    ws.close(1000)
-  }
-
-  function closed (code) {
-    if (finished) return
-    finished = true
-    leaving = true
-    clearTimeout(joinTimer)
-    if (dropTimer !== null) clearInterval(dropTimer)
-    if (!closedByUs) {
-      metrics.errors.add(1, { code: `WS_CLOSE_${code}` })
-      logOnce(`server closed the connection: ${code}`)
-    }
-    const unsettled = pending.size + inFlight.size
-    metrics.unsettledDrops.add(unsettled)
-    if (unsettled > 0) logOnce(`${unsettled} drops unsettled when leaving`)
-    metrics.errors.add(0)
-    metrics.balanceMismatches.add(0)
-    metrics.messagesReceived.add(jsonMessages, { kind: 'json' })
-    const binaryKind = seeds ? 'drop_events' : 'snapshot'
-    metrics.messagesReceived.add(frames, { kind: binaryKind })
-    metrics.bytesReceived.add(jsonBytes, { kind: 'json' })
-    metrics.bytesReceived.add(frameBytes, { kind: binaryKind })
-    metrics.dropEventsReceived.add(dropEventCount)
-    const seconds = openedAt > 0 ? (Date.now() - openedAt) / 1000 : 0
-    if (seconds >= 1) {
-      metrics.clientMessagesPerSecond.add((jsonMessages + frames) / seconds)
-      metrics.clientBytesPerSecond.add((jsonBytes + frameBytes) / seconds)
-    }
+/** What the socket received, by kind, and per second of its life. */
+function reportTraffic ({ seeds, openedAt, jsonMessages, jsonBytes, frames, frameBytes, dropEventCount }) {
+  metrics.messagesReceived.add(jsonMessages, { kind: 'json' })
+  const binaryKind = seeds ? 'drop_events' : 'snapshot'
+  metrics.messagesReceived.add(frames, { kind: binaryKind })
+  metrics.bytesReceived.add(jsonBytes, { kind: 'json' })
+  metrics.bytesReceived.add(frameBytes, { kind: binaryKind })
+  metrics.dropEventsReceived.add(dropEventCount)
+  const seconds = openedAt > 0 ? (Date.now() - openedAt) / 1000 : 0
+  if (seconds >= 1) {
+    metrics.clientMessagesPerSecond.add((jsonMessages + frames) / seconds)
+    metrics.clientBytesPerSecond.add((jsonBytes + frameBytes) / seconds)
   }
 }
 

@@ -120,51 +120,98 @@ function failedWorker (plan, code, detail) {
   }
 }
 
+/** The workers' results as one run: its counts, latencies, steady-window traffic and CPU, and whether it passed. */
 function summarize ({ options, baseUrl, rooms, offered, workerCount, results, window, dropIntervalMs }) {
   const sum = (key) => results.reduce((total, result) => total + result[key], 0)
+  const errors = mergeErrors(results)
+  const samples = (key) => concatSamples(results, key)
+  const delivery = options.delivery ?? 'snapshots'
+  const traffic = steadyTraffic(results)
+  const windowS = (window.to.at - window.from.at) / 1000
+  const errorCount = Object.values(errors).reduce((total, count) => total + count, 0)
+  const players = options.players
+  const counts = { dropsSent: sum('dropsSent'), dropsAcked: sum('dropsAcked'), dropsSettled: sum('dropsSettled'), unsettled: sum('unsettled'), joined: sum('joined') }
+  const failures = failuresOf({ ...counts, errorCount, players, dropIntervalMs, received: traffic.received, delivery, eventsSeen: sum('eventsSeen') })
+  return {
+    passed: failures.length === 0,
+    failures,
+    baseUrl,
+    players,
+    joined: counts.joined,
+    /** Joins answered E_WRONG_NODE (clustered) and followed to the room's process. */
+    redirects: sum('redirects'),
+    rooms: rooms.length,
+    roomsOffered: offered,
+    workers: workerCount,
+    delivery,
+    dropIntervalMs,
+    dropsSent: counts.dropsSent,
+    dropsAcked: counts.dropsAcked,
+    dropsRefused: sum('dropsRefused'),
+    dropsSettled: counts.dropsSettled,
+    unsettled: counts.unsettled,
+    balanceMismatches: sum('balanceMismatches'),
+    /** Seeds mode: drop-events frames received, and the other players' drops in them. */
+    eventFrames: sum('eventFrames'),
+    eventsSeen: sum('eventsSeen'),
+    errors,
+    errorCount,
+    firstErrors: results.flatMap((result) => result.firstErrors).slice(0, 10),
+    ackMs: latencies(samples('ackMs')),
+    settledMs: latencies(samples('settledMs')),
+    settleOverheadMs: percentiles(samples('settleOverheadMs')),
+    /** The same, for the drops sent in the steady window only (no connects, no warm-up). */
+    steady: {
+      ackMs: latencies(samples('steadyAckMs')),
+      settledMs: latencies(samples('steadySettledMs')),
+      /** Seeds mode: another player's drop, sent → seen by the other sockets of its room (owner and watcher in the same worker). */
+      sightingMs: latencies(samples('steadySightingMs'))
+    },
+    window: windowFigures(traffic, windowS, players),
+    cpu: cpuFigures(window, windowS, traffic)
+  }
+}
+
+/** Error counts by code, over every worker. */
+function mergeErrors (results) {
   const errors = {}
   for (const result of results) for (const [code, count] of Object.entries(result.errors)) errors[code] = (errors[code] ?? 0) + count
-  const concat = (key) => {
-    const arrays = results.map((result) => result.samples[key])
-    const all = new Float64Array(arrays.reduce((total, array) => total + array.length, 0))
-    let at = 0
-    for (const array of arrays) { all.set(array, at); at += array.length }
-    return all
-  }
-  const ack = concat('ackMs')
-  const settled = concat('settledMs')
-  const overhead = concat('settleOverheadMs')
-  const steadyAck = concat('steadyAckMs')
-  const steadySettled = concat('steadySettledMs')
-  const steadySighting = concat('steadySightingMs')
-  const delivery = options.delivery ?? 'snapshots'
+  return errors
+}
 
-  // The steady window, as each worker counted it.
-  let windowFrames = 0
-  let windowText = 0
-  let windowBytes = 0
+/** One sample kind of every worker, in one array. */
+function concatSamples (results, key) {
+  const arrays = results.map((result) => result.samples[key])
+  const all = new Float64Array(arrays.reduce((total, array) => total + array.length, 0))
+  let at = 0
+  for (const array of arrays) { all.set(array, at); at += array.length }
+  return all
+}
+
+const percentiles = (samples) => ({ p50: quantile(samples, 0.5), p99: quantile(samples, 0.99) })
+const latencies = (samples) => ({ ...percentiles(samples), count: samples.length })
+
+/** What the workers received in the steady window, as each counted it, and each worker's CPU per frame. */
+function steadyTraffic (results) {
+  let frames = 0
+  let text = 0
+  let bytes = 0
   const perWorker = []
   for (const { window: w } of results) {
     if (!w.from || !w.to) continue
-    const frames = w.to.frames - w.from.frames
-    const text = w.to.textMessages - w.from.textMessages
-    windowFrames += frames
-    windowText += text
-    windowBytes += w.to.bytes - w.from.bytes
+    const workerFrames = w.to.frames - w.from.frames
+    const workerText = w.to.textMessages - w.from.textMessages
+    frames += workerFrames
+    text += workerText
+    bytes += w.to.bytes - w.from.bytes
     const cpuS = w.from.cpuS !== null && w.to.cpuS !== null ? w.to.cpuS - w.from.cpuS : null
-    perWorker.push({ cpuS, received: frames + text, usPerFrame: cpuS !== null && frames + text > 0 ? cpuS * 1e6 / (frames + text) : null })
+    perWorker.push({ cpuS, received: workerFrames + workerText, usPerFrame: cpuS !== null && workerFrames + workerText > 0 ? cpuS * 1e6 / (workerFrames + workerText) : null })
   }
-  const windowS = (window.to.at - window.from.at) / 1000
-  const cpu = { user: window.to.cpu.user - window.from.cpu.user, system: window.to.cpu.system - window.from.cpu.system }
-  const cpuS = (cpu.user + cpu.system) / 1e6
-  const received = windowFrames + windowText
-  const errorCount = Object.values(errors).reduce((total, count) => total + count, 0)
-  const dropsSent = sum('dropsSent')
-  const dropsAcked = sum('dropsAcked')
-  const dropsSettled = sum('dropsSettled')
-  const unsettled = sum('unsettled')
-  const joined = sum('joined')
-  const players = options.players
+  return { frames, text, bytes, received: frames + text, perWorker }
+}
+
+/** Why the run failed (empty: it passed). */
+function failuresOf ({ errorCount, joined, players, unsettled, dropsSent, dropsAcked, dropsSettled, dropIntervalMs, received, delivery, eventsSeen }) {
   const failures = []
   if (errorCount > 0) failures.push(`${errorCount} errors`)
   if (joined !== players) failures.push(`${joined} of ${players} players joined`)
@@ -173,60 +220,34 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
   if (dropsSettled !== dropsAcked) failures.push(`${dropsAcked - dropsSettled} of ${dropsAcked} acknowledged drops not settled`)
   if (dropIntervalMs > 0 && dropsSent === 0) failures.push('no drop was sent')
   if (received === 0) failures.push('no frame received in the steady window')
-  if (delivery === 'seeds' && dropIntervalMs > 0 && players > 1 && sum('eventsSeen') === 0) failures.push('seeds mode: no other player\'s drop was seen')
+  if (delivery === 'seeds' && dropIntervalMs > 0 && players > 1 && eventsSeen === 0) failures.push('seeds mode: no other player\'s drop was seen')
+  return failures
+}
+
+function windowFigures ({ frames, text, bytes, received }, windowS, players) {
   return {
-    passed: failures.length === 0,
-    failures,
-    baseUrl,
-    players,
-    joined,
-    /** Joins answered E_WRONG_NODE (clustered) and followed to the room's process. */
-    redirects: sum('redirects'),
-    rooms: rooms.length,
-    roomsOffered: offered,
-    workers: workerCount,
-    delivery,
-    dropIntervalMs,
-    dropsSent,
-    dropsAcked,
-    dropsRefused: sum('dropsRefused'),
-    dropsSettled,
-    unsettled,
-    balanceMismatches: sum('balanceMismatches'),
-    /** Seeds mode: drop-events frames received, and the other players' drops in them. */
-    eventFrames: sum('eventFrames'),
-    eventsSeen: sum('eventsSeen'),
-    errors,
-    errorCount,
-    firstErrors: results.flatMap((result) => result.firstErrors).slice(0, 10),
-    ackMs: { p50: quantile(ack, 0.5), p99: quantile(ack, 0.99), count: ack.length },
-    settledMs: { p50: quantile(settled, 0.5), p99: quantile(settled, 0.99), count: settled.length },
-    settleOverheadMs: { p50: quantile(overhead, 0.5), p99: quantile(overhead, 0.99) },
-    /** The same, for the drops sent in the steady window only (no connects, no warm-up). */
-    steady: {
-      ackMs: { p50: quantile(steadyAck, 0.5), p99: quantile(steadyAck, 0.99), count: steadyAck.length },
-      settledMs: { p50: quantile(steadySettled, 0.5), p99: quantile(steadySettled, 0.99), count: steadySettled.length },
-      /** Seeds mode: another player's drop, sent → seen by the other sockets of its room (owner and watcher in the same worker). */
-      sightingMs: { p50: quantile(steadySighting, 0.5), p99: quantile(steadySighting, 0.99), count: steadySighting.length }
-    },
-    window: {
-      seconds: windowS,
-      frames: windowFrames,
-      textMessages: windowText,
-      received,
-      framesPerSecondPerPlayer: windowS > 0 ? received / windowS / players : null,
-      bytesPerSecondPerPlayer: windowS > 0 ? windowBytes / windowS / players : null,
-      receivedPerSecond: windowS > 0 ? received / windowS : null
-    },
-    cpu: {
-      seconds: cpuS,
-      userS: cpu.user / 1e6,
-      systemS: cpu.system / 1e6,
-      shareOfCore: windowS > 0 ? cpuS / windowS : null,
-      usPerFrame: received > 0 ? cpuS * 1e6 / received : null,
-      userUsPerFrame: received > 0 ? cpu.user / received : null,
-      perWorker
-    }
+    seconds: windowS,
+    frames,
+    textMessages: text,
+    received,
+    framesPerSecondPerPlayer: windowS > 0 ? received / windowS / players : null,
+    bytesPerSecondPerPlayer: windowS > 0 ? bytes / windowS / players : null,
+    receivedPerSecond: windowS > 0 ? received / windowS : null
+  }
+}
+
+/** The generator's own CPU over the steady window (the main thread's process.cpuUsage covers every worker thread). */
+function cpuFigures (window, windowS, { received, perWorker }) {
+  const cpu = { user: window.to.cpu.user - window.from.cpu.user, system: window.to.cpu.system - window.from.cpu.system }
+  const cpuS = (cpu.user + cpu.system) / 1e6
+  return {
+    seconds: cpuS,
+    userS: cpu.user / 1e6,
+    systemS: cpu.system / 1e6,
+    shareOfCore: windowS > 0 ? cpuS / windowS : null,
+    usPerFrame: received > 0 ? cpuS * 1e6 / received : null,
+    userUsPerFrame: received > 0 ? cpu.user / received : null,
+    perWorker
   }
 }
 

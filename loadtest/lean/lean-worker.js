@@ -53,162 +53,210 @@ export function socketTarget (baseUrl) {
  * @property {'snapshots' | 'seeds'} [delivery] the players' `join.delivery` (default snapshots)
  */
 
+/**
+ * What the players of one worker share: the plan, where to connect, their
+ * counters, and `finishOne` (called once per player when it is done).
+ * @typedef {{ plan: WorkerPlan, entry: ReturnType<typeof socketTarget>, stats: PlayerStats, sightings: DropSightings, finishOne: () => void }} WorkerRun
+ */
+
 /** @param {WorkerPlan} plan @param {(result: object, transfer: ArrayBuffer[]) => void} done */
 export function playWorkerPlan (plan, done) {
-  const entry = socketTarget(plan.baseUrl)
   const stats = new PlayerStats()
-  const sightings = new DropSightings(stats)
-  const window = {}
+  const window = steadyWindow(plan, stats)
   let remaining = plan.players.length
+  /** @type {WorkerRun} */
+  const run = {
+    plan,
+    entry: socketTarget(plan.baseUrl),
+    stats,
+    sightings: new DropSightings(stats),
+    finishOne () {
+      if (--remaining > 0) return
+      window.close()
+      const { result, transfer } = workerResult(stats, window.figures)
+      done(result, transfer)
+    }
+  }
+  for (const spec of plan.players) {
+    setTimeout(() => startPlayer(run, spec).catch((error) => {
+      stats.error('X_GENERATOR', error.stack)
+      run.finishOne()
+    }), Math.max(0, spec.connectAt - Date.now()))
+  }
+}
 
-  // The steady window on the players' clock (performance.now()).
+/**
+ * Sets the steady window on the players' clock (performance.now()) and
+ * reads the worker's counters and CPU at its two ends; `close` ends it
+ * early when the players are done first.
+ * @param {WorkerPlan} plan @param {PlayerStats} stats
+ */
+function steadyWindow (plan, stats) {
+  const figures = {}
   stats.steadyFrom = performance.now() + (plan.windowFrom - Date.now())
   stats.steadyTo = performance.now() + (plan.windowTo - Date.now())
   const read = () => ({ at: Date.now(), frames: stats.frames, textMessages: stats.textMessages, bytes: stats.bytes, cpuS: threadCpuSeconds() })
-  const windowTimers = [
-    setTimeout(() => { window.from = read() }, Math.max(0, plan.windowFrom - Date.now())),
-    setTimeout(() => { window.to = read() }, Math.max(0, plan.windowTo - Date.now()))
+  const timers = [
+    setTimeout(() => { figures.from = read() }, Math.max(0, plan.windowFrom - Date.now())),
+    setTimeout(() => { figures.to = read() }, Math.max(0, plan.windowTo - Date.now()))
   ]
-
-  const finishOne = () => {
-    if (--remaining > 0) return
-    if (!window.to) window.to = read()
-    if (!window.from) window.from = window.to
-    for (const timer of windowTimers) clearTimeout(timer)
-    const samples = {
-      ackMs: stats.ackMs.toArray(),
-      settledMs: stats.settledMs.toArray(),
-      settleOverheadMs: stats.settleOverheadMs.toArray(),
-      steadyAckMs: stats.steadyAckMs.toArray(),
-      steadySettledMs: stats.steadySettledMs.toArray(),
-      steadySightingMs: stats.steadySightingMs.toArray()
+  return {
+    figures,
+    close () {
+      if (!figures.to) figures.to = read()
+      if (!figures.from) figures.from = figures.to
+      for (const timer of timers) clearTimeout(timer)
     }
-    done({
-      players: stats.players,
-      joined: stats.joined,
-      redirects: stats.redirects,
-      dropsSent: stats.dropsSent,
-      dropsAcked: stats.dropsAcked,
-      dropsRefused: stats.dropsRefused,
-      dropsSettled: stats.dropsSettled,
-      unsettled: stats.unsettled,
-      balanceMismatches: stats.balanceMismatches,
-      frames: stats.frames,
-      eventFrames: stats.eventFrames,
-      eventsSeen: stats.eventsSeen,
-      textMessages: stats.textMessages,
-      bytes: stats.bytes,
-      errors: Object.fromEntries(stats.errors),
-      firstErrors: stats.firstErrors,
-      window,
-      samples
-    }, Object.values(samples).map((array) => array.buffer))
   }
+}
 
-  for (const spec of plan.players) {
-    setTimeout(() => connect(spec).catch((error) => {
-      stats.error('X_GENERATOR', error.stack)
-      finishOne()
-    }), Math.max(0, spec.connectAt - Date.now()))
+/** What the worker posts to the main thread, and the sample buffers it transfers. @param {PlayerStats} stats */
+function workerResult (stats, window) {
+  const samples = {
+    ackMs: stats.ackMs.toArray(),
+    settledMs: stats.settledMs.toArray(),
+    settleOverheadMs: stats.settleOverheadMs.toArray(),
+    steadyAckMs: stats.steadyAckMs.toArray(),
+    steadySettledMs: stats.steadySettledMs.toArray(),
+    steadySightingMs: stats.steadySightingMs.toArray()
   }
-
-  async function connect ({ room, leaveAt }) {
-    let response
-    try {
-      response = await fetch(`${plan.baseUrl}/api/session`, { method: 'POST', signal: AbortSignal.timeout(30_000) })
-    } catch (error) {
-      stats.error('HTTP_ERROR', `POST /api/session: ${error.message}`)
-      return finishOne()
-    }
-    const body = await response.text()
-    if (response.status !== 201) {
-      stats.error(`HTTP_${response.status}`, `POST /api/session: ${body.slice(0, 200)}`)
-      return finishOne()
-    }
-    const { token } = JSON.parse(body)
-    play(room, token, leaveAt)
+  const result = {
+    players: stats.players,
+    joined: stats.joined,
+    redirects: stats.redirects,
+    dropsSent: stats.dropsSent,
+    dropsAcked: stats.dropsAcked,
+    dropsRefused: stats.dropsRefused,
+    dropsSettled: stats.dropsSettled,
+    unsettled: stats.unsettled,
+    balanceMismatches: stats.balanceMismatches,
+    frames: stats.frames,
+    eventFrames: stats.eventFrames,
+    eventsSeen: stats.eventsSeen,
+    textMessages: stats.textMessages,
+    bytes: stats.bytes,
+    errors: Object.fromEntries(stats.errors),
+    firstErrors: stats.firstErrors,
+    window,
+    samples
   }
+  return { result, transfer: Object.values(samples).map((array) => array.buffer) }
+}
 
-  function play (room, token, leaveAt) {
-    let closedByUs = false
-    let dropTimer = null
-    let phaseTimer = null
-    let pollTimer = null
+/** Creates the player's session (POST /api/session), then plays it on a socket. @param {WorkerRun} run */
+async function startPlayer (run, { room, leaveAt }) {
+  const { plan, stats } = run
+  let response
+  try {
+    response = await fetch(`${plan.baseUrl}/api/session`, { method: 'POST', signal: AbortSignal.timeout(30_000) })
+  } catch (error) {
+    stats.error('HTTP_ERROR', `POST /api/session: ${error.message}`)
+    return run.finishOne()
+  }
+  const body = await response.text()
+  if (response.status !== 201) {
+    stats.error(`HTTP_${response.status}`, `POST /api/session: ${body.slice(0, 200)}`)
+    return run.finishOne()
+  }
+  const { token } = JSON.parse(body)
+  // It lives on in its socket's and timers' callbacks.
+  new PlayedSocket(run, room, token, leaveAt)
+}
+
+/**
+ * One player's socket, from open to close: it joins (again at the room's
+ * process after E_WRONG_NODE), drops on a timer from a random phase, and at
+ * leaveAt waits (at most drainMs) for its last answers before closing.
+ */
+class PlayedSocket {
+  /** @param {WorkerRun} run @param {string} room @param {string} token @param {number} leaveAt epoch ms */
+  constructor (run, room, token, leaveAt) {
+    this.run = run
+    this.token = token
+    this.closedByUs = false
+    this.dropTimer = null
+    this.phaseTimer = null
+    this.pollTimer = null
     /** @type {LeanSocket} */
-    let socket
-    const player = new LeanPlayer({ room, bet: plan.bet, stats, delivery: plan.delivery, sightings, send: (text) => socket.sendText(text), redirect: (socketUrl) => moveTo(socketUrl) })
+    this.socket = null
+    this.player = new LeanPlayer({ room, bet: run.plan.bet, stats: run.stats, delivery: run.plan.delivery, sightings: run.sightings, send: (text) => this.socket.sendText(text), redirect: (socketUrl) => this.moveTo(socketUrl) })
+    this.open(run.entry)
+    this.joinTimer = setTimeout(() => this.joinTimedOut(), JOIN_TIMEOUT_MS)
+    this.leaveTimer = setTimeout(() => this.leave(), Math.max(0, leaveAt - Date.now()))
+  }
 
-    /** Opens the player's socket to the process at `target` (the entry URL, or the room's owner after E_WRONG_NODE). */
-    function open (target) {
-      const current = new LeanSocket({ host: target.host, port: target.port, path: `${target.prefix}/ws?token=${encodeURIComponent(token)}` }, {
-        onText (text, at) {
-          player.receiveText(text, at)
-          if (player.joined && dropTimer === null && phaseTimer === null && !player.leaving) startDropping()
-        },
-        onBinary (buffer, start, end, at) {
-          player.receiveBinary(buffer, start, end, at)
-        },
-        onError (error) {
-          if (closedByUs || current !== socket) return
-          stats.error(error.status ? `HTTP_${error.status}` : 'WS_ERROR', error.message)
-        },
-        onClose (code) {
-          // The socket left behind by a redirect closes quietly.
-          if (current !== socket) return
-          clearTimeout(joinTimer)
-          clearTimeout(leaveTimer)
-          clearTimeout(phaseTimer)
-          clearInterval(dropTimer)
-          clearInterval(pollTimer)
-          player.closed(code, closedByUs)
-          finishOne()
-        }
-      })
-      socket = current
-    }
+  /** Opens the player's socket to the process at `target` (the entry URL, or the room's owner after E_WRONG_NODE). */
+  open (target) {
+    const current = new LeanSocket({ host: target.host, port: target.port, path: `${target.prefix}/ws?token=${encodeURIComponent(this.token)}` }, {
+      onText: (text, at) => {
+        this.player.receiveText(text, at)
+        if (this.player.joined && this.dropTimer === null && this.phaseTimer === null && !this.player.leaving) this.startDropping()
+      },
+      onBinary: (buffer, start, end, at) => {
+        this.player.receiveBinary(buffer, start, end, at)
+      },
+      onError: (error) => {
+        if (this.closedByUs || current !== this.socket) return
+        this.run.stats.error(error.status ? `HTTP_${error.status}` : 'WS_ERROR', error.message)
+      },
+      onClose: (code) => {
+        // The socket left behind by a redirect closes quietly.
+        if (current === this.socket) this.closed(code)
+      }
+    })
+    this.socket = current
+  }
 
-    /** Leaves this socket (nothing was dropped on it) and joins again at the room's process. @param {string} socketUrl */
-    function moveTo (socketUrl) {
-      const previous = socket
-      open(socketTarget(socketUrl.replace(/\/ws$/, '')))
-      previous.close(1000)
-    }
+  /** Leaves this socket (nothing was dropped on it) and joins again at the room's process. @param {string} socketUrl */
+  moveTo (socketUrl) {
+    const previous = this.socket
+    this.open(socketTarget(socketUrl.replace(/\/ws$/, '')))
+    previous.close(1000)
+  }
 
-    open(entry)
+  close () {
+    this.closedByUs = true
+    this.socket.close(1000)
+  }
 
-    const close = () => {
-      closedByUs = true
-      socket.close(1000)
-    }
-    const joinTimer = setTimeout(() => {
-      if (player.joined) return
-      stats.error('X_JOIN_TIMEOUT', `no welcome/joined within ${JOIN_TIMEOUT_MS} ms`)
-      close()
-    }, JOIN_TIMEOUT_MS)
-    const leaveTimer = setTimeout(leave, Math.max(0, leaveAt - Date.now()))
+  joinTimedOut () {
+    if (this.player.joined) return
+    this.run.stats.error('X_JOIN_TIMEOUT', `no welcome/joined within ${JOIN_TIMEOUT_MS} ms`)
+    this.close()
+  }
 
-    function startDropping () {
-      if (plan.dropIntervalMs <= 0) return
-      // A random phase, so the players' drops do not arrive in waves.
-      phaseTimer = setTimeout(() => {
-        if (player.leaving) return
-        player.drop()
-        dropTimer = setInterval(() => player.drop(), plan.dropIntervalMs)
-      }, Math.random() * plan.dropIntervalMs)
-    }
+  startDropping () {
+    const interval = this.run.plan.dropIntervalMs
+    if (interval <= 0) return
+    // A random phase, so the players' drops do not arrive in waves.
+    this.phaseTimer = setTimeout(() => {
+      if (this.player.leaving) return
+      this.player.drop()
+      this.dropTimer = setInterval(() => this.player.drop(), interval)
+    }, Math.random() * interval)
+  }
 
-    function leave () {
-      player.leave()
-      clearTimeout(phaseTimer)
-      clearInterval(dropTimer)
-      const deadline = Date.now() + plan.drainMs
-      pollTimer = setInterval(() => {
-        if (player.drained || Date.now() >= deadline) {
-          clearInterval(pollTimer)
-          close()
-        }
-      }, DRAIN_POLL_MS)
-    }
+  leave () {
+    this.player.leave()
+    clearTimeout(this.phaseTimer)
+    clearInterval(this.dropTimer)
+    const deadline = Date.now() + this.run.plan.drainMs
+    this.pollTimer = setInterval(() => {
+      if (this.player.drained || Date.now() >= deadline) {
+        clearInterval(this.pollTimer)
+        this.close()
+      }
+    }, DRAIN_POLL_MS)
+  }
+
+  closed (code) {
+    clearTimeout(this.joinTimer)
+    clearTimeout(this.leaveTimer)
+    clearTimeout(this.phaseTimer)
+    clearInterval(this.dropTimer)
+    clearInterval(this.pollTimer)
+    this.player.closed(code, this.closedByUs)
+    this.run.finishOne()
   }
 }
 

@@ -1,5 +1,3 @@
-import { toCredits } from '../game/money.js'
-import { balanceMessage } from '../../protocol/server-messages.js'
 /** Redis channel on which processes announce the players whose balance they just committed. */
 export const BALANCE_CHANNEL = 'plinko:balances'
 
@@ -8,8 +6,9 @@ export const BALANCE_CHANNEL = 'plinko:balances'
  * process changes them (one player connected to two processes). After each
  * committed batch a process publishes the ids of the players it changed;
  * the others re-read those players' committed balance from PostgreSQL —
- * only for accounts they hold — and tell the player's connections with a
- * `balance` message. A re-read is dropped if one of this process's own
+ * only for accounts they hold — and report the new balance
+ * (`onBalanceChanged`: the arena applies it and tells the player's
+ * connections). A re-read is dropped if one of this process's own
  * batches for that player committed meanwhile (that balance is newer).
  * Balances are never decided here: PostgreSQL's conditional debits do that.
  */
@@ -18,14 +17,17 @@ export class BalanceSync {
    * @param {object} options
    * @param {import('ioredis').Redis} options.redis the process's connection (publishing); a duplicate subscribes
    * @param {string} options.nodeId
-   * @param {import('../game/accounts.js').AccountBook} options.accounts
+   * @param {{ held: (playerId: string) => import('../game/accounts.js').Account | undefined }} options.accounts the account book
+   * @param {(account: import('../game/accounts.js').Account, balance: number) => void} options.onBalanceChanged
+   *   another process committed this balance (milli-credits) for an account held here
    * @param {{ readBalance: (playerId: string) => Promise<number | null> }} options.store
    * @param {import('pino').Logger} options.log
    */
-  constructor ({ redis, nodeId, accounts, store, log }) {
+  constructor ({ redis, nodeId, accounts, onBalanceChanged, store, log }) {
     this.redis = redis
     this.nodeId = nodeId
     this.accounts = accounts
+    this.onBalanceChanged = onBalanceChanged
     this.store = store
     this.log = log
     this.subscriber = null
@@ -59,7 +61,7 @@ export class BalanceSync {
     if (notice?.node === this.nodeId || !Array.isArray(notice.players)) return
     this.stats.received++
     for (const playerId of notice.players) {
-      const account = typeof playerId === 'string' ? this.accounts.accounts.get(playerId) : undefined
+      const account = typeof playerId === 'string' ? this.accounts.held(playerId) : undefined
       if (account) this._refresh(account)
     }
   }
@@ -72,9 +74,8 @@ export class BalanceSync {
     const commits = account.commits
     this.store.readBalance(playerId).then((balance) => {
       if (balance === null || account.commits !== commits || balance === account.balance) return
-      account.balance = balance
       this.stats.refreshed++
-      for (const connection of account.connections) connection.sendJson(balanceMessage(toCredits(balance)))
+      this.onBalanceChanged(account, balance)
     }, (error) => this.log.warn({ err: error, player: playerId }, 'could not re-read a balance')).finally(() => {
       const again = this._refreshing.get(playerId)
       this._refreshing.delete(playerId)

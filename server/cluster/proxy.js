@@ -45,7 +45,7 @@ function withoutForwarding (headers) {
  * @param {object} options
  * @param {ProxyTarget[]} options.targets
  *   the processes, in /n/{i} order; `child` (read at each upgrade: a restarted worker replaces it) takes WebSockets by hand-off
- * @param {{ warn?: Function }} [options.log]
+ * @param {{ warn: Function }} [options.log] (console by default)
  */
 export function createProxy ({ targets, log = console }) {
   const balance = new ConnectionBalance(targets, log)
@@ -60,7 +60,7 @@ export function createProxy ({ targets, log = console }) {
  * child until it says they closed).
  */
 class ConnectionBalance {
-  /** @param {ProxyTarget[]} targets @param {{ warn?: Function }} log */
+  /** @param {ProxyTarget[]} targets @param {{ warn: Function }} log */
   constructor (targets, log) {
     this.targets = targets
     this.log = log
@@ -110,7 +110,7 @@ class ConnectionBalance {
     handOff(child, socket, head, (error) => {
       counted.open--
       this.open[index]--
-      this.log.warn?.(`proxy: could not hand a socket to process ${index}: ${error.message}`)
+      this.log.warn(`proxy: could not hand a socket to process ${index}: ${error.message}`)
     })
   }
 
@@ -145,7 +145,7 @@ function forwardRequest (balance, request, response, log) {
     reply.pipe(response)
   })
   upstream.on('error', (error) => {
-    log.warn?.(`proxy: ${routed.target.host}:${routed.target.port} ${error.message}`)
+    log.warn(`proxy: ${routed.target.host}:${routed.target.port} ${error.message}`)
     if (!response.headersSent) response.writeHead(502, { 'content-type': 'application/json' })
     response.end('{"code":"E_UNAVAILABLE","message":"server process unavailable"}')
   })

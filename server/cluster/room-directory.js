@@ -2,7 +2,7 @@ import { ROOM_IDS } from '../../protocol/room-id.js'
 import { Leases } from './lease.js'
 
 /**
- * Which process runs which room, in Redis (used by cluster-coordinator.js;
+ * Which process runs which room, in Redis (used by cluster-room-ownership.js;
  * a server that runs alone has no directory: every room is its own).
  *
  *   claim(roomId)   → { held: true } | { held: false, owner: url | null, retryAfterMs }

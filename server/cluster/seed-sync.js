@@ -23,7 +23,7 @@ export class SeedSync {
    * @param {object} options
    * @param {import('ioredis').Redis} options.redis the process's connection (publishing); a duplicate subscribes
    * @param {string} options.nodeId
-   * @param {import('../game/accounts.js').AccountBook} options.accounts
+   * @param {{ held: (playerId: string) => import('../game/accounts.js').Account | undefined }} options.accounts the account book
    * @param {{ loadAccount: (playerId: string) => Promise<{ seed: { id: string, seed: string, hash: string, nextNonce: number } } | null> }} options.store
    * @param {import('pino').Logger} options.log
    */
@@ -110,7 +110,7 @@ export class SeedSync {
   _received (notice) {
     if (typeof notice.player !== 'string' || typeof notice.id !== 'string') return
     this.stats.received++
-    const account = this.accounts.accounts.get(notice.player)
+    const account = this.accounts.held(notice.player)
     const switched = account ? this.refresh(account, typeof notice.seed === 'string' ? notice.seed : undefined) : Promise.resolve()
     switched.then(() => this.redis.publish(SEED_ACK_CHANNEL, JSON.stringify({ node: this.nodeId, id: notice.id })))
       .catch((error) => this.log.warn({ err: error }, 'could not confirm a seed rotation'))

@@ -22,9 +22,14 @@ export const DROP_ID_BLOCK = 10_000
  *   (`UPDATE … WHERE status = 'in_flight' RETURNING`), and only those rows
  *   are credited: two processes can never settle the same drop twice.
  * - Nonces are reserved in blocks in the database (`UPDATE server_seeds SET
- *   next_nonce = next_nonce + N … RETURNING`) when an account is loaded or
- *   runs low, so two processes never use the same nonce of a seed.
+ *   next_nonce = next_nonce + N … RETURNING`) when an account is loaded, its
+ *   seed rotated, or its block runs low, so two processes never use the same
+ *   nonce of a seed.
  * - Drop ids are reserved in blocks from one counter row.
+ *
+ * It only reserves: the process's sequences (cluster-sequences.js) hand the
+ * numbers out, and learn of the blocks reserved with a load or a rotation
+ * through `watchNonceBlocks`.
  *
  * `commitBatch` also returns every touched player's balance as committed,
  * which the arena shows instead of its cached one.
@@ -36,9 +41,16 @@ export class SharedLedgerStore extends PostgresStore {
     super(options)
     this.nonceBlock = nonceBlock
     this.dropIdBlock = dropIdBlock
-    /** @type {Map<string, { end: number, next: { start: number, end: number } | null, refilling: Promise<void> | null }>} by seed id */
-    this.nonceBlocks = new Map()
-    this.dropIds = { next: 0, end: 0, pending: null, nextBlock: null }
+    /** @type {NonceBlockWatcher | null} */
+    this._nonceWatcher = null
+  }
+
+  /**
+   * Who hands out the nonces this store reserves while loading an account or
+   * rotating its seed (cluster-sequences.js). @param {NonceBlockWatcher} watcher
+   */
+  watchNonceBlocks (watcher) {
+    this._nonceWatcher = watcher
   }
 
   async migrate () {
@@ -50,14 +62,8 @@ export class SharedLedgerStore extends PostgresStore {
 
   // ---- drop ids -------------------------------------------------------------
 
-  /** Reserves the first block; call once before taking ids. */
-  async startDropIds () {
-    const block = await this._reserveDropIds()
-    this.dropIds.next = block.start
-    this.dropIds.end = block.end
-  }
-
-  async _reserveDropIds () {
+  /** Reserves the next block of drop ids for this process. @returns {Promise<{ start: number, end: number }>} */
+  async reserveDropIds () {
     const n = this.dropIdBlock
     // GREATEST with MAX(id): stays above ids written by a single-process run on the same database.
     const { rows } = await this.pool.query(`INSERT INTO cluster_counters (name, value)
@@ -66,29 +72,6 @@ export class SharedLedgerStore extends PostgresStore {
       RETURNING value`, [n])
     const end = Number(rows[0].value) + 1
     return { start: end - n, end }
-  }
-
-  /** The next drop id (synchronous); a fresh block is fetched ahead of need. */
-  takeDropId () {
-    const ids = this.dropIds
-    if (ids.next >= ids.end) {
-      if (!ids.nextBlock) {
-        this._refillDropIds()
-        throw gameError('E_UNAVAILABLE', 'drop ids are being reserved; retry in a moment')
-      }
-      ids.next = ids.nextBlock.start
-      ids.end = ids.nextBlock.end
-      ids.nextBlock = null
-    }
-    const id = ids.next++
-    if (ids.end - ids.next < this.dropIdBlock / 2) this._refillDropIds()
-    return id
-  }
-
-  _refillDropIds () {
-    const ids = this.dropIds
-    if (ids.pending || ids.nextBlock) return
-    ids.pending = this._reserveDropIds().then((block) => { ids.nextBlock = block }, () => {}).finally(() => { ids.pending = null })
   }
 
   // ---- nonces ---------------------------------------------------------------
@@ -102,7 +85,7 @@ export class SharedLedgerStore extends PostgresStore {
     if (!rows[0]) return null
     const row = rows[0]
     const start = Number(row.next_nonce)
-    this.nonceBlocks.set(row.seed_id, { end: start + this.nonceBlock, next: null, refilling: null })
+    this._nonceWatcher?.reserved(row.seed_id, { start, end: start + this.nonceBlock })
     return {
       playerId: row.id,
       balance: Number(row.balance),
@@ -113,32 +96,13 @@ export class SharedLedgerStore extends PostgresStore {
   }
 
   /**
-   * Takes the seed's next nonce from this process's reservation (synchronous).
-   * @param {{ id: string, nextNonce: number }} seed
+   * Reserves the seed's next block of nonces for this process, if it is still active.
+   * @param {string} seedId @returns {Promise<{ start: number, end: number } | null>}
    */
-  takeNonce (seed) {
-    const block = this.nonceBlocks.get(seed.id)
-    if (!block) throw gameError('E_UNAVAILABLE', 'no nonces reserved for this seed; reconnect')
-    if (seed.nextNonce >= block.end) {
-      if (!block.next) {
-        this._refillNonces(seed.id, block)
-        throw gameError('E_UNAVAILABLE', 'nonces are being reserved; retry in a moment')
-      }
-      seed.nextNonce = block.next.start
-      block.end = block.next.end
-      block.next = null
-    }
-    const nonce = seed.nextNonce++
-    if (block.end - seed.nextNonce < this.nonceBlock / 2) this._refillNonces(seed.id, block)
-    return nonce
-  }
-
-  _refillNonces (seedId, block) {
-    if (block.refilling || block.next) return
-    block.refilling = this.pool.query('UPDATE server_seeds SET next_nonce = next_nonce + $2 WHERE id = $1 AND active = 1 RETURNING next_nonce',
-      [seedId, this.nonceBlock]).then(({ rows }) => {
-      if (rows[0]) block.next = { start: Number(rows[0].next_nonce) - this.nonceBlock, end: Number(rows[0].next_nonce) }
-    }, () => {}).finally(() => { block.refilling = null })
+  async reserveNonces (seedId) {
+    const { rows } = await this.pool.query('UPDATE server_seeds SET next_nonce = next_nonce + $2 WHERE id = $1 AND active = 1 RETURNING next_nonce',
+      [seedId, this.nonceBlock])
+    return rows[0] ? { start: Number(rows[0].next_nonce) - this.nonceBlock, end: Number(rows[0].next_nonce) } : null
   }
 
   /** Rotation commits the new seed with its first block already reserved for this process. */
@@ -155,8 +119,8 @@ export class SharedLedgerStore extends PostgresStore {
       await client.query('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES ($1, $2, $3, $4, 1, $5, $6)',
         [newSeed.id, playerId, newSeed.seed, newSeed.hash, this.nonceBlock, at])
     })
-    this.nonceBlocks.delete(oldSeedId)
-    this.nonceBlocks.set(newSeed.id, { end: this.nonceBlock, next: null, refilling: null })
+    this._nonceWatcher?.retired(oldSeedId)
+    this._nonceWatcher?.reserved(newSeed.id, { start: 0, end: this.nonceBlock })
   }
 
   // ---- recovery of other processes' drops -------------------------------------
@@ -292,10 +256,16 @@ export async function openSharedLedger (database) {
   const store = new SharedLedgerStore({ url: database.url })
   try {
     await store.migrate()
-    await store.startDropIds()
   } catch (error) {
     await store.close().catch(() => {})
     throw error
   }
   return store
 }
+
+/**
+ * @typedef {object} NonceBlockWatcher
+ * @property {(seedId: string, block: { start: number, end: number }) => void} reserved
+ *   a block of the seed's nonces is this process's (a load or a rotation reserved it); it replaces any earlier one
+ * @property {(seedId: string) => void} retired the seed was rotated away: no more of its nonces
+ */

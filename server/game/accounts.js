@@ -77,6 +77,11 @@ export class AccountBook {
     return account
   }
 
+  /** The player's account if this process holds it in memory (never loads it). @param {string} playerId @returns {Account | undefined} */
+  held (playerId) {
+    return this.accounts.get(playerId)
+  }
+
   /** Adds a hold on an account already in memory. @param {Account} account */
   retain (account) {
     account.holds++

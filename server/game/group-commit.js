@@ -19,8 +19,8 @@ export class GroupCommit {
    * @param {{ commitBatch: (batch: import('../store/records.js').LedgerBatch) => Promise<import('./money.js').CommitOutcome> }} options.store
    * @param {(batch: PendingBatch, outcome: import('./money.js').CommitOutcome) => void} options.onCommitted outcome: what the store's commitBatch returned
    * @param {(batch: PendingBatch, error: unknown) => void} options.onFailed
-   * @param {import('../metrics.js').Metrics} [options.metrics]
-   * @param {{ error: Function }} [options.log]
+   * @param {import('../metrics.js').Metrics} options.metrics
+   * @param {{ error: Function }} options.log
    */
   constructor ({ store, onCommitted, onFailed, metrics, log }) {
     this.store = store
@@ -111,11 +111,11 @@ export class GroupCommit {
       // What the ledger committed (a shared ledger may refuse drops) and the committed balances.
       outcome = await this.store.commitBatch(toLedgerBatch(batch))
     } catch (error) {
-      this.metrics?.commitFailures.inc()
+      this.metrics.commitFailures.inc()
       this._callback(this.onFailed, batch, error)
       return
     }
-    this.metrics?.commitDuration.observe(Number(process.hrtime.bigint() - started) / 1e9)
+    this.metrics.commitDuration.observe(Number(process.hrtime.bigint() - started) / 1e9)
     this._callback(this.onCommitted, batch, outcome)
   }
 
@@ -124,7 +124,7 @@ export class GroupCommit {
       callback(batch, error)
     } catch (callbackError) {
       // The transaction's outcome stands; a failing announcement must not undo or repeat it.
-      this.log?.error({ err: callbackError }, 'ledger callback failed')
+      this.log.error({ err: callbackError }, 'ledger callback failed')
     }
   }
 }

@@ -19,19 +19,19 @@ import { newServerSeed } from '../fairness/seeds.js'
 
 /**
  * A player's seed changes, given only what they touch: the ledger queue,
- * the store and the coordinator (which tells the other processes).
+ * the store and the account feed (which tells the other processes).
  */
 export class SeedChanges {
   /**
    * @param {object} services
    * @param {{ run: <T>(work: () => Promise<T>) => Promise<T> }} services.ledger the group commit's queue (group-commit.js)
    * @param {import('../store/ledger-store.js').LedgerStore} services.store
-   * @param {import('../coordination/coordinator.js').Coordinator} services.coordinator
+   * @param {import('../coordination/account-feed.js').AccountFeed} services.feed
    */
-  constructor ({ ledger, store, coordinator }) {
+  constructor ({ ledger, store, feed }) {
     this.ledger = ledger
     this.store = store
-    this.coordinator = coordinator
+    this.feed = feed
   }
 
   /**
@@ -57,11 +57,11 @@ export class SeedChanges {
         }
       })
       // Before the answer (and outside the ledger queue): the next drop on any process uses the new seed.
-      await this.coordinator.seedRotated(account)
+      await this.feed.seedRotated(account)
       return reply
     } catch (error) {
       // Rotated by another process first (clustered): this one held an old seed.
-      if (error?.code === 'E_SEED_ROTATED') await this.coordinator.seedOutdated(account)
+      if (error?.code === 'E_SEED_ROTATED') await this.feed.seedOutdated(account)
       throw error
     } finally {
       account.seedRotations--

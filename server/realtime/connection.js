@@ -5,6 +5,7 @@ import { holdWritesUntilEndOfTurn } from './write-batcher.js'
 import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
 import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
 import { discardUnread } from './discard-unread.js'
+import { NO_ADDRESS_LIMITS } from './ip-limits.js'
 
 /** Messages that may arrive while the token is being checked; more than this is abuse. */
 const MAX_EARLY_MESSAGES = 32
@@ -33,9 +34,9 @@ export class Connection {
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
    * @param {number} options.softLimit @param {number} options.hardLimit bytes
-   * @param {{ take: () => boolean, rate: number }} [options.messageLimiter] frames per second allowed (a TokenBucket)
+   * @param {{ take: () => boolean, rate: number, tokens: number, burst: number }} options.messageLimiter frames per second allowed (a TokenBucket)
    */
-  constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit, messageLimiter = null }) {
+  constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit, messageLimiter }) {
     this.socket = socket
     this.arena = arena
     this.parseMessage = parseMessage
@@ -52,8 +53,8 @@ export class Connection {
     this.feed = null
     this.closed = false
     this.alive = true
-    /** This client IP's shared drop and join buckets (server/realtime/ip-limits.js); null when not behind the route (tests, benchmarks). */
-    this.ipLimits = null
+    /** This client IP's shared drop, join and frame buckets (server/realtime/ip-limits.js), set by the route once it counts the socket. */
+    this.ipLimits = NO_ADDRESS_LIMITS
     this._early = []
     socket.on('message', (data, isBinary) => {
       if (this.account) this._receive(data, isBinary)
@@ -61,8 +62,8 @@ export class Connection {
     })
     // Protocol-level pings count against the frame rate too: ws answers each with a pong.
     socket.on('ping', (data) => {
-      if (this.messageLimiter && !this.messageLimiter.take()) this._overRate()
-      else if (this.ipLimits && !this.ipLimits.admitFrame(data.length, this.messageLimiter)) this._overRate('from this address')
+      if (!this.messageLimiter.take()) this._overRate()
+      else if (!this.ipLimits.admitFrame(data.length, this.messageLimiter)) this._overRate('from this address')
     })
     socket.on('pong', () => { this.alive = true })
     socket.on('close', () => this._closed())
@@ -100,9 +101,9 @@ export class Connection {
 
   _receive (data, isBinary) {
     if (this.closed) return
-    if (this.messageLimiter && !this.messageLimiter.take()) return this._overRate()
+    if (!this.messageLimiter.take()) return this._overRate()
     // The budget shared by every socket of this address (ip-limits.js).
-    if (this.ipLimits && !this.ipLimits.admitFrame(data.length, this.messageLimiter)) return this._overRate('from this address')
+    if (!this.ipLimits.admitFrame(data.length, this.messageLimiter)) return this._overRate('from this address')
     let message
     try {
       if (isBinary) {
@@ -137,7 +138,7 @@ export class Connection {
     switch (message.type) {
       case 'join': {
         if (!this.account.joinLimiter.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRate} joins per second per player`)
-        if (this.ipLimits && !this.ipLimits.joins.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRatePerIp} joins per second from one address`)
+        if (!this.ipLimits.joins.take()) throw new GameError('E_RATE_LIMITED', `at most ${arena.config.joinRatePerIp} joins per second from one address`)
         const joined = arena.join(this, message.room, message.delivery)
         // Joining a room this process does not run yet is async (the coordinator claims it).
         if (typeof joined?.then === 'function') {

@@ -1,4 +1,5 @@
 import { TokenBucket } from '../limits/token-bucket.js'
+import { soleWorker } from '../limits/worker-share.js'
 
 /**
  * Once its address's frame budget is spent, a socket still gets frames
@@ -18,28 +19,56 @@ export const QUIET_FRAME_BYTES = 1024
  * worth): the per-socket burst (WS_MESSAGE_BURST) no longer adds up across
  * sockets. An entry lives while the IP has sockets open, and then until its
  * buckets have refilled, so closing and reopening a socket never hands out
- * a fresh burst.
+ * a fresh burst. In a cluster each process enforces 1/N of every budget,
+ * N the processes alive (limits/worker-share.js), so that the cluster's
+ * limit is the configured one.
  */
 export class IpLimits {
   /**
-   * @param {{ dropRate: number, joinRate: number, messageRate?: number, byteRate?: number, maxPayload?: number, now?: () => number }} options
+   * @param {{ dropRate: number, joinRate: number, messageRate?: number, byteRate?: number, maxPayload?: number, maxSockets?: number,
+   *   share?: import('../limits/worker-share.js').WorkerShare, now?: () => number }} options
    *   rates per second (messages: frames received, bytes: their payloads); each bucket holds two seconds' worth
-   *   (the byte bucket at least one frame of maxPayload)
+   *   (the byte bucket at least one frame of maxPayload); all of them the whole cluster's, divided by share.workers
    */
-  constructor ({ dropRate, joinRate, messageRate = Infinity, byteRate = Infinity, maxPayload = 0, now }) {
-    this.dropRate = dropRate
-    this.joinRate = joinRate
-    this.messageRate = messageRate
-    this.byteRate = byteRate
+  constructor ({ dropRate, joinRate, messageRate = Infinity, byteRate = Infinity, maxPayload = 0, maxSockets = Infinity, share = soleWorker(), now }) {
+    this.configured = { dropRate, joinRate, messageRate, byteRate, maxSockets }
     this.maxPayload = maxPayload
     this.now = now
     /** @type {Map<string, IpEntry>} */
     this.entries = new Map()
+    this._divide(share.workers)
+    share.onChange((workers) => {
+      this._divide(workers)
+      for (const entry of this.entries.values()) this._resize(entry)
+    })
+  }
+
+  /** This process's share of each budget: 1/workers, at least one socket. @param {number} workers */
+  _divide (workers) {
+    const { dropRate, joinRate, messageRate, byteRate, maxSockets } = this.configured
+    this.dropRate = dropRate / workers
+    this.joinRate = joinRate / workers
+    this.messageRate = messageRate / workers
+    this.byteRate = byteRate / workers
+    this.maxSockets = Math.max(1, Math.floor(maxSockets / workers))
+  }
+
+  /** @param {IpEntry} entry */
+  _resize (entry) {
+    resize(entry.drops, this.dropRate, 2 * this.dropRate)
+    resize(entry.joins, this.joinRate, 2 * this.joinRate)
+    resize(entry.frames, this.messageRate, 2 * this.messageRate)
+    resize(entry.bytes, this.byteRate, Math.max(2 * this.byteRate, this.maxPayload))
   }
 
   /** Open sockets from `ip` now. @param {string} ip */
   openFrom (ip) {
     return this.entries.get(ip)?.open ?? 0
+  }
+
+  /** Whether `ip` holds this process's share of sockets already. @param {string} ip */
+  atSocketLimit (ip) {
+    return this.openFrom(ip) >= this.maxSockets
   }
 
   /**
@@ -78,6 +107,26 @@ export class IpLimits {
     return forgotten
   }
 }
+
+/** @param {TokenBucket} bucket @param {number} rate @param {number} burst */
+function resize (bucket, rate, burst) {
+  bucket.take(0)
+  bucket.rate = rate
+  bucket.burst = burst
+  bucket.tokens = Math.min(bucket.tokens, burst)
+}
+
+/**
+ * An address entry that lifts nothing (every drop, join and frame is let
+ * through): what a connection holds until the route has counted it against
+ * its address (one refused at capacity never is), and what the benchmark's
+ * in-process players hold, having no address.
+ */
+export const NO_ADDRESS_LIMITS = Object.freeze({
+  drops: Object.freeze({ take: () => true }),
+  joins: Object.freeze({ take: () => true }),
+  admitFrame: () => true
+})
 
 class IpEntry {
   /** @param {string} ip @param {{ drops: TokenBucket, joins: TokenBucket, frames: TokenBucket, bytes: TokenBucket }} buckets */

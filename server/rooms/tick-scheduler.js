@@ -21,8 +21,8 @@ export class TickScheduler {
    * @param {() => void} options.onTick
    * @param {number} [options.tickRate] ticks per second of wall time (SIMULATION_HZ; tests may go faster)
    * @param {number} [options.maxCatchUp] most ticks run per wake-up
-   * @param {import('../metrics.js').Metrics} [options.metrics]
-   * @param {{ error: Function }} [options.log]
+   * @param {import('../metrics.js').Metrics} options.metrics
+   * @param {{ error: Function }} options.log
    * @param {() => bigint} [options.now] monotonic ns
    * @param {(fn: () => void, ms: number) => any} [options.setTimer]
    * @param {(handle: any) => void} [options.clearTimer]
@@ -80,25 +80,25 @@ export class TickScheduler {
       const dropped = this.accumulator / SECOND_NS
       this.accumulator -= dropped * SECOND_NS
       this.droppedTicks += Number(dropped)
-      this.metrics?.droppedTicks.inc(Number(dropped))
+      this.metrics.droppedTicks.inc(Number(dropped))
     }
     this._schedule()
   }
 
   _runTick (lagNs) {
     const lagSeconds = Number(lagNs) / 1e9
-    this.metrics?.tickLag.observe(lagSeconds)
-    this.metrics?.tickLagCurrent.set(lagSeconds)
+    this.metrics.tickLag.observe(lagSeconds)
+    this.metrics.tickLagCurrent.set(lagSeconds)
     const started = this.now()
     try {
       this.onTick()
     } catch (error) {
       // One bad tick must not stop the clock for every room.
-      this.log?.error({ err: error }, 'tick failed')
+      this.log.error({ err: error }, 'tick failed')
     }
     this.ticks++
-    this.metrics?.ticks.inc()
-    this.metrics?.tickDuration.observe(Number(this.now() - started) / 1e9)
+    this.metrics.ticks.inc()
+    this.metrics.tickDuration.observe(Number(this.now() - started) / 1e9)
   }
 
   _schedule () {

@@ -53,8 +53,10 @@ function auditSchemaError (errors, part) {
  * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
  */
 export default async function auditRoutes (app, { store, rooms, operatorToken, authGuard }) {
-  // onRequest: the token is checked before anything of the request is (its query's schema included).
-  app.addHook('onRequest', requireOperator(operatorToken, authGuard))
+  // onRequest: the token is checked before anything of the request is (its query's schema included),
+  // after the rate limit (a hook on each route, not the plugin's: those run before any route's).
+  const operatorOnly = requireOperator(operatorToken, authGuard)
+  app.addHook('onRoute', (route) => { route.onRequest = [...[route.onRequest ?? []].flat(), operatorOnly] })
   app.setSchemaErrorFormatter(auditSchemaError)
   dropLookupRoutes(app, store)
   verifyRoute(app, store)

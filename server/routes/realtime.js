@@ -22,8 +22,9 @@ const IP_SWEEP_MS = 60_000
  * @param {import('../config.js').Config} services.config
  * @param {any} services.metrics
  * @param {import('../limits/auth-guard.js').AuthGuard} services.authGuard
+ * @param {import('../limits/worker-share.js').WorkerShare} [services.workerShare] how many processes divide the per-IP budgets
  */
-export default async function realtimeRoutes (app, { arena, store, accounts, config, metrics, authGuard }) {
+export default async function realtimeRoutes (app, { arena, store, accounts, config, metrics, authGuard, workerShare }) {
   const parseMessage = createMessageParser(config)
   /** Per client IP (request.ip: honours TRUST_PROXY): open sockets, drop and join buckets. And sockets in total. */
   const ipLimits = new IpLimits({
@@ -31,7 +32,9 @@ export default async function realtimeRoutes (app, { arena, store, accounts, con
     joinRate: config.joinRatePerIp,
     messageRate: config.wsIpMessageRate,
     byteRate: config.wsIpByteRate,
-    maxPayload: config.wsMaxPayload
+    maxPayload: config.wsMaxPayload,
+    maxSockets: config.wsMaxConnectionsPerIp,
+    share: workerShare
   })
   let open = 0
   const sweeper = setInterval(() => ipLimits.sweep(), IP_SWEEP_MS).unref()
@@ -56,7 +59,7 @@ export default async function realtimeRoutes (app, { arena, store, accounts, con
         messageLimiter: new TokenBucket({ rate: config.wsMessageRate, burst: config.wsMessageBurst })
       })
       const ip = request.ip
-      if (open >= config.wsMaxConnections || ipLimits.openFrom(ip) >= config.wsMaxConnectionsPerIp) {
+      if (open >= config.wsMaxConnections || ipLimits.atSocketLimit(ip)) {
         connection.sendError('E_TOO_MANY_CONNECTIONS')
         connection.drop(ERROR_CODES.E_TOO_MANY_CONNECTIONS.close, 'E_TOO_MANY_CONNECTIONS')
         return

@@ -3,9 +3,9 @@ import { ROOM_IDS } from '../../protocol/room-id.js'
 /**
  * GET /api/rooms: rooms alive now, and every room id that can be joined.
  * @param {import('fastify').FastifyInstance} app
- * @param {{ coordinator: import('../coordination/coordinator.js').Coordinator }} services
+ * @param {{ ownership: import('../coordination/room-ownership.js').RoomOwnership }} services
  */
-export default async function roomRoutes (app, { coordinator }) {
+export default async function roomRoutes (app, { ownership }) {
   app.get('/api/rooms', {
     schema: {
       summary: 'Rooms alive now (created on first join, disposed when empty) and all joinable ids',
@@ -35,8 +35,8 @@ export default async function roomRoutes (app, { coordinator }) {
       }
     }
   }, async () => ({
-    // Clustered, the coordinator lists the rooms of every process.
-    rooms: await coordinator.listRooms(),
+    // Clustered, room ownership lists the rooms of every process.
+    rooms: await ownership.list(),
     roomIds: ROOM_IDS
   }))
 }

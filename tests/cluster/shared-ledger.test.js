@@ -2,6 +2,7 @@ import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createBoard, simulateDrop } from '../../engine/index.js'
 import { startPostgres } from '../../tools/postgres-process.js'
 import { openSharedLedger } from '../../server/cluster/shared-ledger.js'
+import { ClusterSequences } from '../../server/cluster/cluster-sequences.js'
 import { settleInterruptedDrops } from '../../server/game/recovery.js'
 
 const silentLog = { info () {}, warn () {}, error () {} }
@@ -28,14 +29,17 @@ describe('shared ledger (clustered PostgreSQL store)', () => {
   })
   const batch = (drops, settlements = []) => ({ drops, settlements, balances: [], nonces: [], clientSeeds: [] })
 
-  it('reserves disjoint drop id and nonce blocks per process', async () => {
-    const { a, b, close } = await twoProcesses()
+  it('reserves disjoint drop id and nonce blocks per process (handed out by each one\'s sequences)', async () => {
+    const { a: storeA, b: storeB, close } = await twoProcesses()
     try {
+      const [a, b] = [new ClusterSequences({ store: storeA }), new ClusterSequences({ store: storeB })]
+      await a.start()
+      await b.start()
       const idsA = [a.takeDropId(), a.takeDropId()]
       const idsB = [b.takeDropId(), b.takeDropId()]
       expect(new Set([...idsA, ...idsB]).size).toBe(4)
-      const accountA = await a.loadAccount('p1')
-      const accountB = await b.loadAccount('p1')
+      const accountA = await storeA.loadAccount('p1')
+      const accountB = await storeB.loadAccount('p1')
       const noncesA = [a.takeNonce(accountA.seed), a.takeNonce(accountA.seed)]
       const noncesB = [b.takeNonce(accountB.seed), b.takeNonce(accountB.seed)]
       expect(new Set([...noncesA, ...noncesB]).size).toBe(4)

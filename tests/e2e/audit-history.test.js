@@ -9,9 +9,8 @@ import { describe, it, expect } from 'vitest'
 import { rtpStatistics } from '../../engine/index.js'
 import { OPERATOR_TOKEN } from './helpers/arena-server.js'
 import { waitInPage } from './helpers/browser.js'
-import { serverAndChromium } from './helpers/testbed.js'
+import { serverAndChromium, playerWithSettledDrops } from './helpers/testbed.js'
 import { screenshotBoth, expectNotBlank } from './helpers/player-page.js'
-import { GameClient } from '../server/helpers/game-client.js'
 
 const ROOM = '10-low'
 const DROPS = 16
@@ -21,13 +20,7 @@ let chromium
 
 serverAndChromium({ tickRate: 180 }, async (started) => {
   ({ server, chromium } = started)
-  const player = (await server.api('POST', '/api/session')).body
-  const client = await GameClient.connect(server.wsUrl(player.token))
-  client.send({ type: 'join', room: ROOM })
-  await client.take('joined')
-  for (let i = 0; i < DROPS; i++) client.send({ type: 'drop', bet: 10 })
-  for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
-  await client.close()
+  await playerWithSettledDrops(server, { room: ROOM, drops: DROPS, bet: 10 })
 })
 
 describe('operator page: a quiet room\'s RTP chart', () => {

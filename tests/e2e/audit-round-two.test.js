@@ -9,9 +9,8 @@
 import { describe, it, expect } from 'vitest'
 import { OPERATOR_TOKEN } from './helpers/arena-server.js'
 import { waitInPage } from './helpers/browser.js'
-import { serverAndChromium } from './helpers/testbed.js'
+import { serverAndChromium, playerWithSettledDrops } from './helpers/testbed.js'
 import { DESKTOP, PHONE } from './helpers/player-page.js'
-import { GameClient } from '../server/helpers/game-client.js'
 import { toCredits, toMilli } from '../../protocol/payout.js'
 
 const ROOM = '8-high'
@@ -24,14 +23,7 @@ let drops
 
 serverAndChromium({ tickRate: 180 }, async (started) => {
   ({ server, chromium } = started)
-  player = (await server.api('POST', '/api/session')).body
-  const client = await GameClient.connect(server.wsUrl(player.token))
-  client.send({ type: 'join', room: ROOM })
-  await client.take('joined')
-  for (let i = 0; i < DROPS; i++) client.send({ type: 'drop', bet: 10 })
-  for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
-  await client.close()
-  drops = (await server.api('GET', '/api/drops', { token: player.token })).body.drops
+  ;({ player, drops } = await playerWithSettledDrops(server, { room: ROOM, drops: DROPS, bet: 10 }))
 })
 
 async function signedIn (viewport = DESKTOP) {

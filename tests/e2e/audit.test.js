@@ -11,9 +11,8 @@ import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { OPERATOR_TOKEN } from './helpers/arena-server.js'
 import { waitInPage } from './helpers/browser.js'
-import { serverAndChromium } from './helpers/testbed.js'
+import { serverAndChromium, playerWithSettledDrops } from './helpers/testbed.js'
 import { imageStats } from './helpers/png.js'
-import { GameClient } from '../server/helpers/game-client.js'
 
 const ROOM = '12-high'
 const DROPS = 6
@@ -26,14 +25,7 @@ let drops
 serverAndChromium({ tickRate: 180 }, async (started) => {
   ({ server, chromium } = started)
   // A player drops a few balls over the protocol and waits for them to settle.
-  player = (await server.api('POST', '/api/session')).body
-  const client = await GameClient.connect(server.wsUrl(player.token))
-  client.send({ type: 'join', room: ROOM })
-  await client.take('joined')
-  for (let i = 0; i < DROPS; i++) client.send({ type: 'drop', bet: 100 })
-  for (let i = 0; i < DROPS; i++) await client.take('settled', 60_000)
-  await client.close()
-  drops = (await server.api('GET', '/api/drops', { token: player.token })).body.drops
+  ;({ player, drops } = await playerWithSettledDrops(server, { room: ROOM, drops: DROPS, bet: 100 }))
 })
 
 async function openAudit () {

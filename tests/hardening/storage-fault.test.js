@@ -1,6 +1,7 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { execFileSync } from 'node:child_process'
 import fs from 'node:fs'
+import { DatabaseSync } from 'node:sqlite'
 import os from 'node:os'
 import path from 'node:path'
 import { GameClient } from '../server/helpers/game-client.js'
@@ -110,8 +111,7 @@ describe.skipIf(!disk)('storage fault: SQLite on a full disk', () => {
   let file = null
   const backend = {
     async query (_, sql, params = []) {
-      const { default: Database } = await import('better-sqlite3')
-      const db = new Database(file, { readonly: true })
+      const db = new DatabaseSync(file, { readOnly: true })
       try { return db.prepare(sql.replace(/\$\d+/g, '?')).all(...params) } finally { db.close() }
     }
   }

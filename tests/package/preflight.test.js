@@ -30,24 +30,24 @@ describe('the preflight of npm test', () => {
 
   it('names every missing program and the one command that installs them', () => {
     const message = missingPrograms('test', { PATH: stubs('empty', []) }, nowhere)
-    expect(message).toMatch(/^npm test needs initdb, pg_ctl, redis-server, nginx /)
-    expect(message).toMatch(/apt-get install -y postgresql redis-server nginx\n/)
+    expect(message).toMatch(/^npm test needs initdb, pg_ctl, redis-server, nginx, python3 /)
+    expect(message).toMatch(/apt-get install -y postgresql redis-server nginx python3-venv\n/)
   })
 
   it('names only what is missing; e2e needs Chromium instead of nginx', () => {
-    const env = { PATH: stubs('some', ['initdb', 'pg_ctl', 'nginx']), CHROMIUM_PATH: path.join(dir, 'no-chromium') }
+    const env = { PATH: stubs('some', ['initdb', 'pg_ctl', 'nginx', 'python3']), CHROMIUM_PATH: path.join(dir, 'no-chromium') }
     expect(missingPrograms('test', { ...env }, nowhere)).toMatch(/^npm test needs redis-server \(/)
     expect(missingPrograms('e2e', { ...env }, nowhere)).toMatch(/^npm run test:e2e needs redis-server, chromium .*\n\n {2}\S*apt-get install -y redis-server chromium\n/s)
   })
 
   it('is silent when everything is there', () => {
-    expect(missingPrograms('test', { PATH: stubs('all', ['initdb', 'pg_ctl', 'redis-server', 'nginx']) }, nowhere)).toBeNull()
+    expect(missingPrograms('test', { PATH: stubs('all', ['initdb', 'pg_ctl', 'redis-server', 'nginx', 'python3']) }, nowhere)).toBeNull()
   })
 
   it('finds PostgreSQL where Debian puts it (off PATH) and puts it on PATH for the tests', () => {
     const postgresRoot = path.join(dir, 'postgresql')
     const bin = stubs('postgresql/15/bin', ['initdb', 'pg_ctl'])
-    const env = { PATH: stubs('rest', ['redis-server', 'nginx']) }
+    const env = { PATH: stubs('rest', ['redis-server', 'nginx', 'python3']) }
     expect(missingPrograms('test', env, { postgresRoot })).toBeNull()
     expect(env.PATH.split(path.delimiter)[0]).toBe(bin)
   })
@@ -63,7 +63,7 @@ describe('the preflight of npm test', () => {
     const output = run.stdout + run.stderr
     console.info(`[preflight] a vitest run with only Node on PATH stopped after ${(performance.now() - started).toFixed(0)} ms (exit ${run.status})`)
     expect(run.status).toBe(1)
-    expect(output).toMatch(/npm test needs (initdb, pg_ctl, )?redis-server, nginx \(/)
+    expect(output).toMatch(/npm test needs (initdb, pg_ctl, )?redis-server, nginx, python3 \(/)
     expect(output.match(/ needs /g)).toHaveLength(1)
     expect(output).not.toMatch(/runtime-and-install|Test Files/)
   })

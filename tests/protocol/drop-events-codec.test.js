@@ -59,6 +59,10 @@ describe('drop-events frames', () => {
     const drop = { id: 1, bet: 1, startTick: 0, slot: 0, engineVersion: ENGINE_VERSIONS[0], playerId: 'p1', dropSeed: '0'.repeat(64) }
     const [event] = decodeDropEvents(encodeDropEvents(1, '0'.repeat(16), [drop])).events
     expect(event.player).toBe('')
+    // 16 characters, hex but for the last two: flagged, and the tag all zero (not half written).
+    const bytes = encodeDropEvents(1, '0'.repeat(16), [{ ...drop, playerId: 'ffffffffffffffzz' }])
+    expect(bytes[DROP_EVENTS_HEADER_BYTES + 23]).toBe(1)
+    expect([...bytes.subarray(DROP_EVENTS_HEADER_BYTES + 24, DROP_EVENTS_HEADER_BYTES + 32)]).toEqual(new Array(8).fill(0))
   })
 
   it('refuse to encode what the layout cannot carry', () => {

@@ -184,6 +184,8 @@ describe('client assets', () => {
     const bundle = await response.text()
     // Not minified: every module is there under its own path, the engine of every shipped version with it.
     const modules = [...bundle.matchAll(/^\/\/ (\S+\.js)$/gm)].map((m) => m[1])
+    // The page's parts (client/player.js builds them) are in it too.
+    expect(modules).toEqual(expect.arrayContaining(['client/room-connection.js', 'client/drop-results.js', 'client/bet-controls.js', 'client/auto-bet-controls.js', 'client/verification-view.js', 'client/render-loop.js', 'client/player-account.js', 'client/page-notices.js', 'client/page-probe.js']))
     expect(modules).toEqual(expect.arrayContaining(['client/player.js', 'engine/world.js', 'engine/versions/engine-1.0.0.js', 'engine/versions/engine-2.0.0.js', 'protocol/snapshot-codec.js', 'node_modules/seedrandom/seedrandom.js']))
     expect(bundle).not.toMatch(/^import\s/m) // nothing left to fetch
   })

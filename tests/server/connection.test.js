@@ -3,6 +3,7 @@ import { EventEmitter } from 'node:events'
 import { Connection } from '../../server/realtime/connection.js'
 import { createMessageParser } from '../../server/realtime/message-schemas.js'
 import { createMetrics } from '../../server/metrics.js'
+import { TokenBucket } from '../../server/limits/token-bucket.js'
 
 /** A stand-in for a ws WebSocket whose send queue the test controls. */
 function fakeSocket () {
@@ -32,7 +33,7 @@ function setup () {
     join: () => ({ type: 'joined' }),
     leave: () => 'r'
   }
-  const connection = new Connection({ socket, arena, parseMessage: createMessageParser({ minBet: 1, maxBet: 100 }), metrics, log: { warn () {}, error () {} }, softLimit: 1000, hardLimit: 5000 })
+  const connection = new Connection({ socket, arena, parseMessage: createMessageParser({ minBet: 1, maxBet: 100 }), metrics, log: { warn () {}, error () {} }, softLimit: 1000, hardLimit: 5000, messageLimiter: new TokenBucket({ rate: 1000, burst: 1000 }) })
   const account = { playerId: 'p', balance: 10, clientSeed: 'c', seed: { hash: 'h', nextNonce: 0 }, connections: new Set() }
   return { socket, metrics, connection, account, released }
 }

@@ -1,6 +1,7 @@
 import { describe, it, expect } from 'vitest'
 import { GroupCommit } from '../../server/game/group-commit.js'
 import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { createMetrics } from '../../server/metrics.js'
 
 /** A store whose commits the test resolves or rejects one at a time. */
 function manualStore () {
@@ -19,13 +20,15 @@ function manualStore () {
 }
 
 const drop = (id, playerId = 'p', extra = {}) => ({ id, playerId, roomId: '8-low', rows: 8, risk: 'low', engineVersion: 'v', seedId: 's-' + playerId, serverSeedHash: 'h', clientSeed: 'c', nonce: id, dropSeed: 'd' + id, bet: 10 * id, startTick: id, createdAt: 0, clientSeedChange: null, void: false, ...extra })
+/** What the server hands every GroupCommit besides its store: metrics and a log. */
+const services = () => ({ metrics: createMetrics({ defaultMetrics: false }), log: { error () {} } })
 const flushMicrotasks = () => new Promise((resolve) => setImmediate(resolve))
 
 describe('GroupCommit', () => {
   it('writes one transaction per tick, strictly in order, one at a time, and reports each after it commits', async () => {
     const store = manualStore()
     const events = []
-    const ledger = new GroupCommit({ store, onCommitted: (b) => events.push(['ok', b.drops.map((d) => d.id)]), onFailed: (b) => events.push(['failed', b.drops.map((d) => d.id)]) })
+    const ledger = new GroupCommit({ ...services(), store, onCommitted: (b) => events.push(['ok', b.drops.map((d) => d.id)]), onFailed: (b) => events.push(['failed', b.drops.map((d) => d.id)]) })
     ledger.addDrop(drop(1))
     ledger.addDrop(drop(2))
     ledger.flush()
@@ -53,7 +56,7 @@ describe('GroupCommit', () => {
   it('merges the ticks that end while a slow commit runs into the next transaction', async () => {
     const store = manualStore()
     const committed = []
-    const ledger = new GroupCommit({ store, onCommitted: (b) => committed.push(b.drops.map((d) => d.id)), onFailed: () => {} })
+    const ledger = new GroupCommit({ ...services(), store, onCommitted: (b) => committed.push(b.drops.map((d) => d.id)), onFailed: () => {} })
     ledger.addDrop(drop(1))
     ledger.flush() // tick 1: written at once
     for (let tick = 2; tick <= 4; tick++) {
@@ -74,7 +77,7 @@ describe('GroupCommit', () => {
   it('drops settlements of drops whose own record failed', async () => {
     const store = manualStore()
     const committed = []
-    const ledger = new GroupCommit({ store, onCommitted: (b) => committed.push(b), onFailed: () => {} })
+    const ledger = new GroupCommit({ ...services(), store, onCommitted: (b) => committed.push(b), onFailed: () => {} })
     const voided = drop(1, 'p', { void: true })
     ledger.addSettlement({ drop: voided, bucket: 0, multiplier: 1, payout: 1, ticks: 1, stateHash: 'x', settledAt: 0, attempts: 0 })
     ledger.addSettlement({ drop: drop(2), bucket: 0, multiplier: 1, payout: 1, ticks: 1, stateHash: 'x', settledAt: 0, attempts: 0 })

@@ -19,6 +19,27 @@ describe('IpLimits', () => {
     expect(takes(a2.drops, 5)).toBe(2)
   })
 
+  it('enforces 1/N of every budget when N processes share them, and resizes the buckets of open addresses when N changes', () => {
+    let now = 0
+    const listeners = []
+    const share = { workers: 2, onChange: (listener) => listeners.push(listener), close: async () => {} }
+    const limits = new IpLimits({ dropRate: 4, joinRate: 2, maxSockets: 5, share, now: () => now })
+    const entry = limits.acquire('10.0.0.1')
+    const takes = (bucket, n) => Array.from({ length: n }, () => bucket.take()).filter(Boolean).length
+    expect(takes(entry.drops, 10)).toBe(4) // 2 a second here, burst 4 (8 alone)
+    expect(takes(entry.joins, 10)).toBe(2)
+    limits.acquire('10.0.0.1')
+    expect(limits.atSocketLimit('10.0.0.1')).toBe(true) // floor(5 / 2)
+    share.workers = 1
+    for (const listener of listeners) listener(1)
+    expect(limits.atSocketLimit('10.0.0.1')).toBe(false)
+    now += 1000
+    expect(takes(entry.drops, 10)).toBe(4) // refilled at the whole rate now
+    for (const listener of listeners) listener(4)
+    expect(entry.drops.burst).toBe(2)
+    expect(limits.maxSockets).toBe(1) // never below one socket
+  })
+
   it('keeps an address with no socket open until its buckets have refilled, then forgets it', () => {
     let now = 0
     const limits = new IpLimits({ dropRate: 1, joinRate: 1, now: () => now })

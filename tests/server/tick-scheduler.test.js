@@ -12,6 +12,7 @@ function fakeScheduler (options = {}) {
     tickRate: 60,
     maxCatchUp: 10,
     metrics,
+    log: { error () {} },
     now: () => clock.now,
     setTimer: (fn, ms) => { clock.timers.push(ms); return clock.timers.length },
     clearTimer: () => {}

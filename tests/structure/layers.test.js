@@ -46,15 +46,7 @@ const SERVER_LAYERS = [
 const MAX_FUNCTION_LINES = 80
 const LONG_ON_PURPOSE = new Set(['engine/world.js _advanceBodies'])
 /** Known before this test existed, to be split (#22); the list may only shrink. */
-const KNOWN_LONG = new Set([
-  'bench/server-ticks.js run',
-  'loadtest/driver/report-markdown.js renderReport',
-  'loadtest/k6-lib/player.js connect',
-  'loadtest/lean/lean-generator.js summarize',
-  'loadtest/lean/lean-worker.js playWorkerPlan',
-  'loadtest/lean/lean-worker.js play',
-  'server/app.js buildApp'
-])
+const KNOWN_LONG = new Set([])
 
 const folderOf = (specifier) => specifier.split('/')[0]
 const isBuiltin = (specifier) => specifier.startsWith('node:')

@@ -1,51 +1,41 @@
-import os from 'node:os'
-import { randomBytes } from 'node:crypto'
-import Redis from 'ioredis'
 import { parseRoomId } from '../../protocol/room-id.js'
 import { GameError, gameError } from '../errors.js'
 import { settleInterruptedDrops } from '../game/recovery.js'
 import { RedisRoomDirectory, KEYS } from './room-directory.js'
-import { BalanceSync } from './balance-sync.js'
-import { SeedSync } from './seed-sync.js'
 
 /**
- * The coordinator of a process in a cluster (../coordination/coordinator.js):
+ * Room ownership of a process in a cluster (../coordination/room-ownership.js):
  * it owns rooms through leases in Redis, renews them (and its presence and
  * room summaries) every TTL/3, gives a room's lease back once the room is
- * disposed and its ledger writes are committed, and settles the drops of
- * rooms left by dead processes. Nonces and drop ids come in blocks from the
- * shared ledger, and committed balances and seed rotations are announced
- * to the others (a rotation is answered once they have switched).
+ * disposed and its ledger writes are committed, settles the drops of rooms
+ * left by dead processes, and reports a lease lost (`onRoomLost`).
  *
  * Takeover: a room whose lease expired (its owner died) is claimed by the
  * first process a player joins it on, or by the sweep (every TTL) if drops
  * of it are still in flight in the ledger. Before the room runs again its
  * in-flight drops are replayed from their seeds and settled, each at most
  * once (the shared ledger's `WHERE status = 'in_flight'`).
- * @implements {import('../coordination/coordinator.js').Coordinator}
+ * @implements {import('../coordination/room-ownership.js').RoomOwnership}
  */
-export class ClusterCoordinator {
+export class ClusterRoomOwnership {
   /**
    * @param {object} options
+   * @param {import('./cluster-presence.js').ClusterPresence} options.presence
    * @param {import('./shared-ledger.js').SharedLedgerStore} options.store
    * @param {import('../config.js').Config} options.config
    * @param {import('pino').Logger} options.log
    */
-  constructor ({ store, config, log }) {
+  constructor ({ presence, store, config, log }) {
+    this.presence = presence
     this.store = store
     this.log = log
     this.ttlMs = config.leaseTtlMs
-    this.nodeId = `${os.hostname()}-${process.pid}-${randomBytes(3).toString('hex')}`
+    this.nodeId = presence.nodeId
     this.publicUrl = config.publicUrl
-    this.redisUrl = config.redisUrl
-    /** @type {import('../arena.js').Arena | null} */
-    this.arena = null
-    this.redis = null
+    this.redis = presence.redis
+    /** @type {import('../coordination/room-ownership.js').OwnershipServices | null} the rooms here, the ledger queue, onRoomLost */
+    this.services = null
     this.directory = null
-    /** Other processes' balance changes reach the accounts held here. */
-    this.balances = null
-    /** Other processes' seed rotations reach the accounts held here. */
-    this.seeds = null
     /** Rooms whose lease we hold. */
     this.owned = new Set()
     /** Per room: the tail of its claim/release chain (they never overlap). */
@@ -59,24 +49,19 @@ export class ClusterCoordinator {
 
   /**
    * Connects to Redis, advertises this process, settles orphaned drops and
-   * starts the timers. @param {import('../arena.js').Arena} arena
+   * starts the timers. @param {import('../coordination/room-ownership.js').OwnershipServices} services
    */
-  async start (arena) {
-    this.arena = arena
-    this.redis = new Redis(this.redisUrl, { lazyConnect: true, maxRetriesPerRequest: 2, enableOfflineQueue: true })
-    this.redis.on('error', (error) => this.log.warn({ err: error }, 'redis error'))
+  async start (services) {
+    this.services = services
+    const { rooms } = services
     this.directory = new RedisRoomDirectory({
       redis: this.redis,
       nodeId: this.nodeId,
       publicUrl: () => this.publicUrl,
       ttlMs: this.ttlMs,
-      localSummaries: () => [...arena.rooms.values()].map((room) => room.summary())
+      localSummaries: () => [...rooms.values()].map((room) => room.summary())
     })
-    this.balances = new BalanceSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store: this.store, log: this.log })
-    await this.redis.connect()
-    this.seeds = new SeedSync({ redis: this.redis, nodeId: this.nodeId, accounts: arena.accounts, store: this.store, log: this.log })
-    await this.balances.start()
-    await this.seeds.start()
+    await this.presence.connect()
     await this.directory.publish([])
     await this.sweep()
     const every = (ms, job) => {
@@ -89,24 +74,10 @@ export class ClusterCoordinator {
   }
 
   /** @param {string} roomId */
-  ownsRoom (roomId) { return this.owned.has(roomId) }
-
-  /** The seed's next nonce, from the block the shared ledger reserved for this process. */
-  takeNonce (seed) { return this.store.takeNonce(seed) }
-
-  takeDropId () { return this.store.takeDropId() }
-
-  /** @param {Iterable<string>} playerIds */
-  balancesCommitted (playerIds) { this.balances.committed(playerIds) }
-
-  /** @param {import('../game/accounts.js').Account} account */
-  seedRotated (account) { return this.seeds.rotated(account.playerId, account.seed.id) }
-
-  /** @param {import('../game/accounts.js').Account} account */
-  seedOutdated (account) { return this.seeds.refresh(account) }
+  owns (roomId) { return this.owned.has(roomId) }
 
   /** Every room running in the cluster, with the URL of the process that runs it. */
-  listRooms () { return this.directory.list() }
+  list () { return this.directory.list() }
 
   /** Called once the HTTP server listens, when PUBLIC_URL was not set. @param {string} url */
   setListenUrl (url) {
@@ -118,10 +89,10 @@ export class ClusterCoordinator {
    * over if its owner died), or refuses with where the room runs.
    * @param {string} roomId a valid room id
    */
-  async claimRoom (roomId) {
+  async claim (roomId) {
     let claim
     try {
-      claim = await this.claim(roomId)
+      claim = await this._take(roomId)
     } catch (error) {
       if (error instanceof GameError) throw error
       // Redis (or the ledger) did not answer: the room may be anyone's; the player retries, as after a takeover.
@@ -134,7 +105,7 @@ export class ClusterCoordinator {
   }
 
   /** @param {string} roomId @returns {Promise<{ held: boolean, owner?: string | null, retryAfterMs?: number }>} */
-  claim (roomId) {
+  _take (roomId) {
     if (this.owned.has(roomId)) return Promise.resolve({ held: true })
     return this._serial(roomId, async () => {
       if (this.owned.has(roomId)) return { held: true }
@@ -143,7 +114,7 @@ export class ClusterCoordinator {
       if (!claim.held) return claim
       if (this.owned.size === 0) this.renewedAt = Date.now()
       this.owned.add(roomId)
-      if (!this.arena.rooms.get(roomId)) await this._recover(roomId)
+      if (!this.services.rooms.get(roomId)) await this._recover(roomId)
       return claim
     })
   }
@@ -174,10 +145,10 @@ export class ClusterCoordinator {
    * ours in flight), unless the room came back meanwhile.
    * @param {string} roomId
    */
-  roomDisposed (roomId) {
+  disposed (roomId) {
     if (this.closed) return
-    this.arena.ledger.run(() => this._serial(roomId, async () => {
-      if (this.arena.rooms.get(roomId) || !this.owned.has(roomId)) return
+    this.services.ledger.run(() => this._serial(roomId, async () => {
+      if (this.services.rooms.get(roomId) || !this.owned.has(roomId)) return
       this.owned.delete(roomId)
       await this.directory.release(roomId)
     })).catch((error) => this.log.error({ err: error, room: roomId }, 'could not release a room lease'))
@@ -194,18 +165,18 @@ export class ClusterCoordinator {
     const lost = await this.directory.renew([...this.owned])
     this.renewedAt = started
     for (const roomId of lost) this._evict(roomId)
-    await this.directory.publish([...this.arena.rooms.values()].map((room) => room.summary()))
+    await this.directory.publish([...this.services.rooms.values()].map((room) => room.summary()))
   }
 
   /**
    * Our lease passed to another process (we stalled past the TTL): stop
-   * running the room (the arena tells its players to move, refuses its
-   * unrecorded drops and settles the recorded ones).
+   * running the room (onRoomLost: the arena tells its players to move,
+   * refuses its unrecorded drops and settles the recorded ones).
    */
   _evict (roomId) {
     this.owned.delete(roomId)
     this.log.error({ room: roomId }, 'lost the lease of a room to another process')
-    this.arena.evictRoom(roomId)
+    this.services.onRoomLost(roomId)
   }
 
   /** Rooms with drops in flight and no owner: claim them (which settles the drops), then let them go. */
@@ -215,30 +186,24 @@ export class ClusterCoordinator {
     for (const roomId of rooms) {
       if (this.owned.has(roomId) || !parseRoomId(roomId)) continue
       if (await this.redis.exists(KEYS.lease(roomId))) continue
-      const claim = await this.claim(roomId)
-      if (claim.held && !this.arena.rooms.get(roomId)) this.roomDisposed(roomId)
+      const claim = await this._take(roomId)
+      if (claim.held && !this.services.rooms.get(roomId)) this.disposed(roomId)
     }
   }
 
-  /** After the arena has settled and committed everything: give every lease back and leave. */
+  /** After the arena has settled and committed everything: give every lease back (the presence closes the connection). */
   async close () {
     if (this.closed) return
     this.closed = true
     for (const timer of this._timers) clearInterval(timer)
+    if (!this.directory) return
     try {
       await Promise.all([...this._chains.values()])
       for (const roomId of [...this.owned]) await this.directory.release(roomId)
       this.owned.clear()
-      if (!this.redis) return
       await this.redis.del(KEYS.node(this.nodeId))
-      await this.balances.close()
-      await this.seeds.close()
-      await this.redis.quit()
     } catch (error) {
       this.log.warn({ err: error }, 'leaving the cluster failed; leases expire after their TTL')
-      this.balances?.subscriber?.disconnect()
-      this.seeds?.subscriber?.disconnect()
-      this.redis.disconnect()
     }
   }
 

@@ -1,0 +1,99 @@
+import { ENGINE_VERSION } from '/engine/index.js'
+import { byId } from './dom.js'
+import { pegRowCount } from './peg-contacts.js'
+
+/**
+ * The page's frames: each one reads the joined room's balls at the render
+ * clock's tick and draws them, plays the peg glows and ticks and the
+ * landings the view met on the way, and skips drawing when nothing moves.
+ * Once a second, the footer's figures (rtt, buffer, snapshot checks).
+ */
+export class RenderLoop {
+  /** @param {import('./player.js').PlayerPage} page */
+  constructor (page) {
+    this.page = page
+    /** balls drawn in the last frame: all, those no announcement explains, and the player's own */
+    this.lastFrame = { balls: 0, unknown: 0, mine: 0 }
+    /** performance.now() of the first frame with the board drawn */
+    this.firstBoardFrameAt = null
+    /** @type {{ now: number, tick: number, balls: number, deviation: number, a: number | null, b: number | null }[] | null} per-frame record, when tracing */
+    this.trace = null
+    /** the last frame drawn had nothing moving (so the next such frame is skipped) */
+    this.idleDrawn = false
+  }
+
+  start () {
+    const frame = (now) => {
+      requestAnimationFrame(frame)
+      this.frame(now)
+    }
+    requestAnimationFrame(frame)
+    setInterval(() => this.updateFooter(), 1000)
+  }
+
+  frame (now) {
+    const { connection: { view, timeline }, renderer } = this.page
+    let poses = []
+    if (view && timeline) {
+      const tick = timeline.advance(now)
+      if (tick !== null) {
+        const { a, b } = timeline.bracket(tick)
+        poses = view.posesAt(tick, a, b)
+        if (this.trace && poses.length > 0 && this.trace.length < 20_000) this.record(now, tick, poses, a, b)
+      }
+      let mine = 0
+      for (const pose of poses) if (pose.mine) mine++
+      this.lastFrame = { balls: poses.length, unknown: view.unknownDrawn, mine }
+      this.playEvents(view, now)
+    }
+    // Nothing moves: keep the last frame.
+    if (poses.length === 0 && !renderer.busy && !renderer.needsDraw) {
+      if (this.idleDrawn) return
+      this.idleDrawn = true
+    } else {
+      this.idleDrawn = false
+    }
+    renderer.draw(poses, now)
+    if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
+  }
+
+  record (now, tick, poses, a, b) {
+    let deviation = 0
+    for (const pose of poses) deviation = Math.max(deviation, pose.deviation)
+    this.trace.push({ now, tick, balls: poses.length, deviation, a: a ? a.tick : null, b: b ? b.tick : null })
+  }
+
+  /** The peg hits and landings the view met since the last frame. */
+  playEvents (view, now) {
+    const { renderer, sound } = this.page
+    const rows = pegRowCount(view.board)
+    for (const hit of view.pegHits) {
+      renderer.glowPeg(hit.peg, hit.mine, now)
+      sound.pegTick(hit.row, rows, hit.mine)
+    }
+    view.pegHits.length = 0
+    for (const landing of view.landings) this.onLanding(view, landing, now)
+    view.landings.length = 0
+  }
+
+  /** A ball reached its bucket on screen (the local simulation's landing). */
+  onLanding (view, landing, now) {
+    const { renderer, sound, results } = this.page
+    const multiplier = view.board.multipliers[landing.bucket]
+    if (!landing.stale) {
+      landing.drop.landedOnScreenAt = now
+      renderer.flash(landing.bucket, landing.mine, now)
+      sound.landing(multiplier, landing.mine)
+    }
+    results.landed(landing)
+  }
+
+  updateFooter () {
+    const { connection: { timeline: t, socket }, snapshotChecks } = this.page
+    const parts = [`engine ${ENGINE_VERSION}`]
+    if (socket.rttMs !== null) parts.push(`rtt ${Math.round(socket.rttMs)} ms`)
+    if (t) parts.push(`buffer ${Math.round(t.delayMs)} ms (jitter ${Math.round(t.jitterMs)} ms)`)
+    parts.push(`snapshot positions checked ${snapshotChecks.positions}${snapshotChecks.mismatches ? `, ${snapshotChecks.mismatches} OFF` : ''}`)
+    byId('footer-stats').textContent = parts.join(' · ')
+  }
+}
