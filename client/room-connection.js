@@ -8,7 +8,7 @@ import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { SeededRoom } from './seeded-room.js'
 import { RoomClock } from './room-clock.js'
-import { pageDelivery, applyDropEvents, reportDesync, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
+import { pageDelivery, applyDropEvents, applyPong, reportDesync, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
 
 const ROOM_KEY = 'plinko.room'
 /** E_WRONG_NODE redirects followed in a row without a join; past this the page stops and says so. */
@@ -84,6 +84,7 @@ export class RoomConnection {
       case 'error': return this.onError(message)
       case 'balance': return account.setBalance(message.balance)
       case 'events': return this.handleRoomEvents(message.events)
+      case 'pong': return applyPong(message, performance.now(), { room: this.joinedRoom, clock: this.timeline })
     }
   }
 

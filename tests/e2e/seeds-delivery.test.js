@@ -179,4 +179,20 @@ describe('seeds delivery on the player page', () => {
     expect(await page.evaluate(() => window.__plinko.snapshotChecks.mismatches)).toBe(0)
     expect(await page.evaluate(() => window.__plinko.warnings)).toEqual([])
   })
+
+  it("keeps a quiet room's clock from the heartbeats' pongs, which name the room's tick", async () => {
+    const { page, kinds } = await openRouted()
+    const framesBefore = kinds[DROP_EVENTS_KIND] ?? 0
+    const before = await page.evaluate(() => window.__plinko.timeline.observations)
+    // More samples than drop-events frames (the only other source after joined): a pong (every 5 s) named the tick.
+    const deadline = Date.now() + 30_000
+    let fromPongs = 0
+    while (fromPongs < 1 && Date.now() < deadline) {
+      await new Promise((resolve) => setTimeout(resolve, 250))
+      const observations = await page.evaluate(() => window.__plinko.timeline.observations)
+      fromPongs = (observations - before) - ((kinds[DROP_EVENTS_KIND] ?? 0) - framesBefore)
+    }
+    expect(fromPongs).toBeGreaterThanOrEqual(1)
+    expect(await page.evaluate(() => window.__plinko.warnings)).toEqual([])
+  })
 })
