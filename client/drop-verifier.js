@@ -76,23 +76,7 @@ export class DropVerifier {
       Object.assign(known, { bucket: outcome.bucket, ticks: outcome.ticks, stateHash: outcome.stateHash, trajectory: outcome.trajectory })
       return known
     }
-    /** @type {LocalDrop} */
-    const local = {
-      dropId: announced.dropId,
-      player: announced.player,
-      mine: announced.player === playerId,
-      room: announced.room,
-      rows,
-      risk,
-      engineVersion,
-      dropSeed: announced.dropSeed,
-      startTick: announced.startTick,
-      slot: announced.slot,
-      bucket: outcome.bucket,
-      ticks: outcome.ticks,
-      stateHash: outcome.stateHash,
-      trajectory: outcome.trajectory
-    }
+    const local = localDrop(announced, { rows, risk, engineVersion }, playerId, outcome)
     if (!this.byId.has(local.dropId)) this.pending.set(local.dropId, local)
     return local
   }
@@ -111,24 +95,7 @@ export class DropVerifier {
   expect (announced, { rows, risk }, playerId) {
     const known = this.pending.get(announced.dropId)
     if (known) return known
-    /** @type {LocalDrop} */
-    const local = {
-      dropId: announced.dropId,
-      player: announced.player,
-      mine: announced.player === playerId,
-      room: announced.room,
-      rows,
-      risk,
-      engineVersion: announced.engineVersion ?? ENGINE_VERSION,
-      dropSeed: announced.dropSeed,
-      startTick: announced.startTick,
-      slot: announced.slot,
-      bet: announced.bet,
-      bucket: null,
-      ticks: null,
-      stateHash: null,
-      trajectory: null
-    }
+    const local = localDrop(announced, { rows, risk, engineVersion: announced.engineVersion ?? ENGINE_VERSION }, playerId, null)
     if (local.mine && !this.byId.has(local.dropId)) this.pending.set(local.dropId, local)
     return local
   }
@@ -209,5 +176,34 @@ export class DropVerifier {
     this.byId.set(dropId, verification)
     if (this.results.length > MAX_KEPT) this.byId.delete(this.results.shift().dropId)
     return verification
+  }
+}
+
+/**
+ * The page's record of an announced drop, with its simulated outcome or,
+ * while the live simulation has not landed it, none yet.
+ * @param {{ dropId: number, player: string, room: string, dropSeed: string, startTick: number, slot: number, bet?: number }} announced
+ * @param {{ rows: number, risk: string, engineVersion: string }} board
+ * @param {string | null} playerId the viewer
+ * @param {{ bucket: number, ticks: number, stateHash: string, trajectory: Float64Array } | null} outcome
+ * @returns {LocalDrop}
+ */
+function localDrop (announced, { rows, risk, engineVersion }, playerId, outcome) {
+  return {
+    dropId: announced.dropId,
+    player: announced.player,
+    mine: announced.player === playerId,
+    room: announced.room,
+    rows,
+    risk,
+    engineVersion,
+    dropSeed: announced.dropSeed,
+    startTick: announced.startTick,
+    slot: announced.slot,
+    bet: announced.bet,
+    bucket: outcome?.bucket ?? null,
+    ticks: outcome?.ticks ?? null,
+    stateHash: outcome?.stateHash ?? null,
+    trajectory: outcome?.trajectory ?? null
   }
 }
