@@ -2,8 +2,8 @@ import fs from 'node:fs'
 
 /** The engine's published standard, as it is in the repository: what an auditor implements from. */
 const SPEC_FILES = [
-  { path: '/docs/engine-spec.md', file: new URL('../../docs/engine-spec.md', import.meta.url), type: 'text/markdown; charset=utf-8', body: { type: 'string' }, summary: 'The engine specification (every shipped version), as Markdown' },
-  { path: '/docs/engine-spec-vectors.json', file: new URL('../../docs/engine-spec-vectors.json', import.meta.url), type: 'application/json; charset=utf-8', body: { type: 'object', additionalProperties: true }, summary: "The specification's test vectors (drops by seed: bucket, ticks, state hashes after ticks 1, 10 and 100)" }
+  { path: '/docs/engine-spec.md', file: new URL('../../docs/engine-spec.md', import.meta.url), type: 'text/markdown; charset=utf-8', body: { description: 'Markdown', content: { 'text/markdown': { schema: { type: 'string' } } } }, summary: 'The engine specification (every shipped version), as Markdown' },
+  { path: '/docs/engine-spec-vectors.json', file: new URL('../../docs/engine-spec-vectors.json', import.meta.url), type: 'application/json; charset=utf-8', body: { description: 'JSON', content: { 'application/json': { schema: { type: 'object', additionalProperties: true } } } }, summary: "The specification's test vectors (drops by seed: bucket, ticks, state hashes after ticks 1, 10 and 100)" }
 ]
 
 /**
