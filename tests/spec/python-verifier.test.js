@@ -117,6 +117,26 @@ describe('verifier-python reproduces the engine', () => {
     expect(drops.length).toBeGreaterThanOrEqual(500)
     expect(await mismatches(drops), `PLINKO_SPEC_SEED=${key}`).toEqual([])
   })
+
+  it('the tick cap: a ball still in play after maxDropTicks lands where it is (no shipped drop reaches 3,600)', async () => {
+    const drops = []
+    for (const engineVersion of ENGINE_VERSIONS) {
+      for (const maxDropTicks of [1, 12, 100]) {
+        for (const rows of [8, 16]) {
+          const dropSeed = createHmac('sha256', 'tick-cap').update(`${engineVersion}:${rows}:${maxDropTicks}`).digest('hex')
+          drops.push({ engineVersion, rows, risk: 'high', dropSeed, maxDropTicks })
+        }
+      }
+    }
+    const python = await pythonOutcomes(drops)
+    const javascript = drops.map((drop) => {
+      const board = createBoard(drop)
+      const { bucket, multiplier, ticks, stateHash } = simulateDrop({ ...board, maxDropTicks: drop.maxDropTicks }, drop.dropSeed)
+      return { bucket, multiplier, ticks, stateHash }
+    })
+    expect(python.map(({ ticks }) => ticks)).toEqual(drops.map(({ maxDropTicks }) => maxDropTicks))
+    expect(python).toEqual(javascript)
+  })
 })
 
 describe('the spec\'s test vectors (docs/engine-spec-vectors.json)', () => {

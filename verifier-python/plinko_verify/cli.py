@@ -36,7 +36,9 @@ REPLAY_HELP = '''usage: %s
 
 Replays drops given by their drop seeds, one JSON object a line on stdin:
 { "engineVersion": "2.0.0", "rows": 16, "risk": "medium", "dropSeed": "<64 hex digits>" }
-and prints one line per drop, in order: { bucket, multiplier, ticks, stateHash }.''' % REPLAY_USAGE
+and prints one line per drop, in order: { bucket, multiplier, ticks, stateHash }.
+A line may also give "maxDropTicks": a tick cap of its own instead of the
+version's, to check the cap rule on drops that reach it.''' % REPLAY_USAGE
 
 USAGE = '''usage:
   %s
@@ -183,7 +185,10 @@ def replay_command(argv, out):
         try:
             drop = json.loads(line)
             board = board_of(drop['engineVersion'], drop['rows'], drop['risk'])
-            outcome = simulate_drop(board, drop['dropSeed'])
+            cap = drop.get('maxDropTicks')
+            if cap is not None and not (type(cap) is int and cap >= 1):
+                raise ValueError('maxDropTicks must be a whole number from 1')
+            outcome = simulate_drop(board, drop['dropSeed'], max_ticks=cap)
         except (ValueError, KeyError, TypeError) as error:
             raise UsageError('line %d: not a drop (%s): %s' % (number, error, line.strip()[:200]))
         out.write(stringify(outcome) + '\n')
