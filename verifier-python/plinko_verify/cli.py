@@ -166,7 +166,13 @@ def vectors_command(argv, out):
         return
     if len(argv) != 1 or argv[0].startswith('-'):
         raise UsageError('vectors takes one file')
-    if not check_vectors_file(argv[0], out):
+    try:
+        ok = check_vectors_file(argv[0], out)
+    except OSError as error:
+        raise UsageError('cannot read %s: %s' % (argv[0], error.strerror or error))
+    except (ValueError, KeyError, TypeError) as error:
+        raise UsageError('%s is not a vectors file (%s: %s)' % (argv[0], type(error).__name__, error))
+    if not ok:
         raise SystemExit(1)
 
 
