@@ -23,6 +23,7 @@ import { fileURLToPath } from 'node:url'
 import { createBoard, simulateDrop, ENGINE_VERSIONS, RISKS, MIN_ROWS, MAX_ROWS } from '../../engine/index.js'
 import { vectorsText, VECTORS_FILE } from '../../scripts/engine-spec-vectors.js'
 import { verifyCommand } from '../../cli/verify-command.js'
+import { traceDrop } from '../../scripts/trace-drop.js'
 
 const ROOT = fileURLToPath(new URL('../../', import.meta.url))
 const VERIFIER = join(ROOT, 'verifier-python')
@@ -157,6 +158,20 @@ describe('the spec\'s test vectors (docs/engine-spec-vectors.json)', () => {
   })
 })
 
+describe('plinko-verify trace', () => {
+  it('prints, tick by tick, the lines scripts/trace-drop.js prints from the engine', async () => {
+    for (const engineVersion of ENGINE_VERSIONS) {
+      const dropSeed = createHmac('sha256', 'trace').update(engineVersion).digest('hex')
+      const board = { rows: 12, risk: 'low', engineVersion }
+      const { code, stdout } = await plinkoVerify(['trace', '--drop-seed', dropSeed, '--rows', '12', '--risk', 'low', '--engine-version', engineVersion])
+      expect(code).toBe(0)
+      const javascript = [...traceDrop(createBoard(board), dropSeed)].map((line) => JSON.stringify(line) + '\n').join('')
+      expect(stdout.split('\n').length).toBeGreaterThan(50)
+      expect(stdout).toBe(javascript)
+    }
+  })
+})
+
 /** Argument lists `plinko verify` and `plinko-verify verify` must answer alike. */
 const VERIFY_CASES = [
   ['--server-seed', 'f6d91647a622851ecffa08a3b705ea6dfde317b186c919ac981783fc0a5833b5', '--client-seed', 'lucky-7', '--nonce', '7', '--rows', '16', '--risk', 'high', '--engine-version', '1.0.0'],
@@ -225,5 +240,5 @@ describe('pip install ./verifier-python', () => {
     // The installed copy is the package (not the checkout): it runs from the venv.
     const where = await run(join(venv, 'bin', 'python'), ['-c', 'import plinko_verify; print(plinko_verify.__file__)'])
     expect(where.stdout.startsWith(venv)).toBe(true)
-  })
+  }, 180_000) // a venv and a pip run: about 10 s on a quiet machine, several times that on a busy one
 })
