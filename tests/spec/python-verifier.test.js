@@ -119,6 +119,18 @@ describe('verifier-python reproduces the engine', () => {
     expect(await mismatches(drops), `PLINKO_SPEC_SEED=${key}`).toEqual([])
   })
 
+  it('every multiplier table of every version, to the bit', async () => {
+    const script = 'from plinko_verify.multipliers import MULTIPLIERS\nfrom plinko_verify.js_json import stringify\n' +
+      'print(stringify({v: {str(rows): {risk: list(t) for risk, t in risks.items()} for rows, risks in tables.items()} for v, tables in MULTIPLIERS.items()}))'
+    const { code, stdout } = await run('python3', ['-c', script], { env: { PYTHONPATH: VERIFIER, PYTHONDONTWRITEBYTECODE: '1' } })
+    expect(code).toBe(0)
+    const engine = Object.fromEntries(ENGINE_VERSIONS.map((version) => [version, Object.fromEntries(
+      Array.from({ length: MAX_ROWS - MIN_ROWS + 1 }, (_, i) => MIN_ROWS + i).map((rows) => [rows, Object.fromEntries(RISKS.map((risk) => [risk, createBoard({ rows, risk, engineVersion: version }).multipliers]))])
+    )]))
+    // Shortest round-trip decimals: equal text is equal doubles.
+    expect(stdout).toBe(JSON.stringify(engine) + '\n')
+  })
+
   it('the tick cap: a ball still in play after maxDropTicks lands where it is (no shipped drop reaches 3,600)', async () => {
     const drops = []
     for (const engineVersion of ENGINE_VERSIONS) {
