@@ -1,6 +1,6 @@
 /**
  * The engine as a standard (docs/engine-spec.md): the second implementation,
- * verifier-python/ (Python, standard library only, written from the spec),
+ * verifier-python/ (Python, standard library only, following the spec),
  * must give every drop of every shipped version the same bucket, ticks and
  * state hash as the JavaScript engine.
  *
