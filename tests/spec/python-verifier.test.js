@@ -1,6 +1,6 @@
 /**
  * The engine as a standard (docs/engine-spec.md): the second implementation,
- * verifier-python/ (Python, standard library only, written from the spec),
+ * verifier-python/ (Python, standard library only, following the spec),
  * must give every drop of every shipped version the same bucket, ticks and
  * state hash as the JavaScript engine.
  *
@@ -23,6 +23,7 @@ import { fileURLToPath } from 'node:url'
 import { createBoard, simulateDrop, ENGINE_VERSIONS, RISKS, MIN_ROWS, MAX_ROWS } from '../../engine/index.js'
 import { vectorsText, VECTORS_FILE } from '../../scripts/engine-spec-vectors.js'
 import { verifyCommand } from '../../cli/verify-command.js'
+import { traceDrop } from '../../scripts/trace-drop.js'
 
 const ROOT = fileURLToPath(new URL('../../', import.meta.url))
 const VERIFIER = join(ROOT, 'verifier-python')
@@ -117,6 +118,38 @@ describe('verifier-python reproduces the engine', () => {
     expect(drops.length).toBeGreaterThanOrEqual(500)
     expect(await mismatches(drops), `PLINKO_SPEC_SEED=${key}`).toEqual([])
   })
+
+  it('every multiplier table of every version, to the bit', async () => {
+    const script = 'from plinko_verify.multipliers import MULTIPLIERS\nfrom plinko_verify.js_json import stringify\n' +
+      'print(stringify({v: {str(rows): {risk: list(t) for risk, t in risks.items()} for rows, risks in tables.items()} for v, tables in MULTIPLIERS.items()}))'
+    const { code, stdout } = await run('python3', ['-c', script], { env: { PYTHONPATH: VERIFIER, PYTHONDONTWRITEBYTECODE: '1' } })
+    expect(code).toBe(0)
+    const engine = Object.fromEntries(ENGINE_VERSIONS.map((version) => [version, Object.fromEntries(
+      Array.from({ length: MAX_ROWS - MIN_ROWS + 1 }, (_, i) => MIN_ROWS + i).map((rows) => [rows, Object.fromEntries(RISKS.map((risk) => [risk, createBoard({ rows, risk, engineVersion: version }).multipliers]))])
+    )]))
+    // Shortest round-trip decimals: equal text is equal doubles.
+    expect(stdout).toBe(JSON.stringify(engine) + '\n')
+  })
+
+  it('the tick cap: a ball still in play after maxDropTicks lands where it is (no shipped drop reaches 3,600)', async () => {
+    const drops = []
+    for (const engineVersion of ENGINE_VERSIONS) {
+      for (const maxDropTicks of [1, 12, 100]) {
+        for (const rows of [8, 16]) {
+          const dropSeed = createHmac('sha256', 'tick-cap').update(`${engineVersion}:${rows}:${maxDropTicks}`).digest('hex')
+          drops.push({ engineVersion, rows, risk: 'high', dropSeed, maxDropTicks })
+        }
+      }
+    }
+    const python = await pythonOutcomes(drops)
+    const javascript = drops.map((drop) => {
+      const board = createBoard(drop)
+      const { bucket, multiplier, ticks, stateHash } = simulateDrop({ ...board, maxDropTicks: drop.maxDropTicks }, drop.dropSeed)
+      return { bucket, multiplier, ticks, stateHash }
+    })
+    expect(python.map(({ ticks }) => ticks)).toEqual(drops.map(({ maxDropTicks }) => maxDropTicks))
+    expect(python).toEqual(javascript)
+  })
 })
 
 describe('the spec\'s test vectors (docs/engine-spec-vectors.json)', () => {
@@ -134,6 +167,20 @@ describe('the spec\'s test vectors (docs/engine-spec-vectors.json)', () => {
     expect(stdout.split('\n').filter((line) => line.startsWith('FAIL'))).toEqual([])
     expect(stdout).toContain(`\n${count} vectors, 0 failed\n`)
     expect(code).toBe(0)
+  })
+})
+
+describe('plinko-verify trace', () => {
+  it('prints, tick by tick, the lines scripts/trace-drop.js prints from the engine', async () => {
+    for (const engineVersion of ENGINE_VERSIONS) {
+      const dropSeed = createHmac('sha256', 'trace').update(engineVersion).digest('hex')
+      const board = { rows: 12, risk: 'low', engineVersion }
+      const { code, stdout } = await plinkoVerify(['trace', '--drop-seed', dropSeed, '--rows', '12', '--risk', 'low', '--engine-version', engineVersion])
+      expect(code).toBe(0)
+      const javascript = [...traceDrop(createBoard(board), dropSeed)].map((line) => JSON.stringify(line) + '\n').join('')
+      expect(stdout.split('\n').length).toBeGreaterThan(50)
+      expect(stdout).toBe(javascript)
+    }
   })
 })
 
@@ -205,5 +252,5 @@ describe('pip install ./verifier-python', () => {
     // The installed copy is the package (not the checkout): it runs from the venv.
     const where = await run(join(venv, 'bin', 'python'), ['-c', 'import plinko_verify; print(plinko_verify.__file__)'])
     expect(where.stdout.startsWith(venv)).toBe(true)
-  })
+  }, 180_000) // a venv and a pip run: about 10 s on a quiet machine, several times that on a busy one
 })

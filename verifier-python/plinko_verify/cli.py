@@ -13,6 +13,7 @@ MAX_SAFE_INTEGER = 9007199254740991
 VERIFY_USAGE = 'plinko-verify verify --server-seed S --client-seed C --nonce N [--rows 16] [--risk medium] [--engine-version V]'
 VECTORS_USAGE = 'plinko-verify vectors FILE'
 REPLAY_USAGE = 'plinko-verify replay < drops.jsonl'
+TRACE_USAGE = 'plinko-verify trace --drop-seed S [--rows 16] [--risk medium] [--engine-version V]'
 
 VERIFY_HELP = '''usage: %s
 
@@ -36,15 +37,25 @@ REPLAY_HELP = '''usage: %s
 
 Replays drops given by their drop seeds, one JSON object a line on stdin:
 { "engineVersion": "2.0.0", "rows": 16, "risk": "medium", "dropSeed": "<64 hex digits>" }
-and prints one line per drop, in order: { bucket, multiplier, ticks, stateHash }.''' % REPLAY_USAGE
+and prints one line per drop, in order: { bucket, multiplier, ticks, stateHash }.
+A line may also give "maxDropTicks": a tick cap of its own instead of the
+version's, to check the cap rule on drops that reach it.''' % REPLAY_USAGE
+
+TRACE_HELP = '''usage: %s
+
+One drop, tick by tick: a JSON line per tick in flight with the ball's
+state (x, y, vx, vy, angle, spin) and its state hash, then a line with the
+outcome. The game's `node scripts/trace-drop.js` prints the same lines
+from the JavaScript engine: diff the two to find the first tick that differs.''' % TRACE_USAGE
 
 USAGE = '''usage:
   %s
   %s
   %s
+  %s
   plinko-verify help [COMMAND]
 
-plinko-verify COMMAND --help shows a command's options.''' % (VERIFY_USAGE, VECTORS_USAGE, REPLAY_USAGE)
+plinko-verify COMMAND --help shows a command's options.''' % (VERIFY_USAGE, VECTORS_USAGE, REPLAY_USAGE, TRACE_USAGE)
 
 
 class UsageError(Exception):
@@ -130,6 +141,20 @@ def integer_option(text, name, minimum=0, maximum=MAX_SAFE_INTEGER):
     return int(text)
 
 
+TRACE_OPTIONS = {'help': 'boolean', 'drop-seed': 'string', 'rows': 'string', 'risk': 'string', 'engine-version': 'string'}
+
+
+def _board_options(options):
+    rows = integer_option(options.get('rows', '16'), 'rows', MIN_ROWS, MAX_ROWS)
+    risk = options.get('risk', 'medium')
+    if risk not in RISKS:
+        raise UsageError('--risk must be one of %s, got "%s"' % (', '.join(RISKS), risk))
+    version = options.get('engine-version', ENGINE_VERSION)
+    if version not in ENGINE_VERSIONS:
+        raise UsageError('--engine-version must be one of %s, got "%s"' % (', '.join(ENGINE_VERSIONS), version))
+    return rows, risk, version
+
+
 def required_string(text, name):
     if text is None or text == '':
         raise UsageError('--%s is required' % name)
@@ -146,13 +171,7 @@ def verify_command(argv, out):
     if client_seed is None:
         required_string(None, 'client-seed')
     nonce = integer_option(options.get('nonce'), 'nonce')
-    rows = integer_option(options.get('rows', '16'), 'rows', MIN_ROWS, MAX_ROWS)
-    risk = options.get('risk', 'medium')
-    if risk not in RISKS:
-        raise UsageError('--risk must be one of %s, got "%s"' % (', '.join(RISKS), risk))
-    version = options.get('engine-version', ENGINE_VERSION)
-    if version not in ENGINE_VERSIONS:
-        raise UsageError('--engine-version must be one of %s, got "%s"' % (', '.join(ENGINE_VERSIONS), version))
+    rows, risk, version = _board_options(options)
     result = verify_drop(server_seed, client_seed, nonce, rows, risk, version)
     out.write(stringify(result) + '\n')
 
@@ -164,7 +183,13 @@ def vectors_command(argv, out):
         return
     if len(argv) != 1 or argv[0].startswith('-'):
         raise UsageError('vectors takes one file')
-    if not check_vectors_file(argv[0], out):
+    try:
+        ok = check_vectors_file(argv[0], out)
+    except OSError as error:
+        raise UsageError('cannot read %s: %s' % (argv[0], error.strerror or error))
+    except (ValueError, KeyError, TypeError) as error:
+        raise UsageError('%s is not a vectors file (%s: %s)' % (argv[0], type(error).__name__, error))
+    if not ok:
         raise SystemExit(1)
 
 
@@ -183,16 +208,45 @@ def replay_command(argv, out):
         try:
             drop = json.loads(line)
             board = board_of(drop['engineVersion'], drop['rows'], drop['risk'])
-            outcome = simulate_drop(board, drop['dropSeed'])
+            cap = drop.get('maxDropTicks')
+            if cap is not None and not (type(cap) is int and cap >= 1):
+                raise ValueError('maxDropTicks must be a whole number from 1')
+            outcome = simulate_drop(board, drop['dropSeed'], max_ticks=cap)
         except (ValueError, KeyError, TypeError) as error:
             raise UsageError('line %d: not a drop (%s): %s' % (number, error, line.strip()[:200]))
         out.write(stringify(outcome) + '\n')
+
+
+def trace_command(argv, out):
+    from .simulate import simulate_drop
+    from .state_hash import body_state_hash
+    from .verify import board_of
+    options = parse_options(argv, TRACE_OPTIONS)
+    if options.get('help'):
+        out.write(TRACE_HELP + '\n')
+        return
+    drop_seed = required_string(options.get('drop-seed'), 'drop-seed')
+    rows, risk, version = _board_options(options)
+    board = board_of(version, rows, risk)
+    lines = []
+
+    def on_tick(tick, state):
+        x, y, vx, vy, angle, spin = state
+        lines.append({'tick': tick, 'x': x, 'y': y, 'vx': vx, 'vy': vy, 'angle': angle, 'spin': spin,
+                      'stateHash': body_state_hash(*state)})
+
+    outcome = simulate_drop(board, drop_seed, on_tick)
+    lines.pop()  # the landing tick is the outcome's line
+    for line in lines:
+        out.write(stringify(line) + '\n')
+    out.write(stringify(dict({'tick': outcome['ticks'], 'landed': True}, **outcome)) + '\n')
 
 
 COMMANDS = {
     'verify': (verify_command, VERIFY_USAGE, VERIFY_HELP),
     'vectors': (vectors_command, VECTORS_USAGE, VECTORS_HELP),
     'replay': (replay_command, REPLAY_USAGE, REPLAY_HELP),
+    'trace': (trace_command, TRACE_USAGE, TRACE_HELP),
 }
 
 

@@ -31,8 +31,10 @@ def initial_conditions(board, drop_seed):
     return x, board.drop_y, vx, vy, angle, spin
 
 
-def simulate_drop(board, drop_seed, on_tick=None):
-    """Returns {'bucket', 'multiplier', 'ticks', 'stateHash'}; on_tick(tick, state) is called after every tick."""
+def simulate_drop(board, drop_seed, on_tick=None, max_ticks=None):
+    """Returns {'bucket', 'multiplier', 'ticks', 'stateHash'}; on_tick(tick, state) is called after every tick.
+
+    max_ticks: a tick cap instead of the version's (section 8), to check the cap rule on drops that reach it."""
     x, y, vx, vy, angle, w = initial_conditions(board, drop_seed)
     radius = board.ball_radius
     ball = board.ball
@@ -63,7 +65,7 @@ def simulate_drop(board, drop_seed, on_tick=None):
     columns = board.grid_columns
     grid_rows = board.grid_rows
     line_y = board.bucket_line_y
-    max_ticks = board.max_drop_ticks
+    max_ticks = board.max_drop_ticks if max_ticks is None else max_ticks
     sqrt = math.sqrt
     floor = math.floor
     no_candidates = ()
