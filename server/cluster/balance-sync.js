@@ -1,3 +1,5 @@
+import { subscribeToNotices, closeNotices } from './notice-channel.js'
+
 /** Redis channel on which processes announce the players whose balance they just committed. */
 export const BALANCE_CHANNEL = 'plinko:balances'
 
@@ -37,10 +39,13 @@ export class BalanceSync {
   }
 
   async start () {
-    this.subscriber = this.redis.duplicate()
-    this.subscriber.on('error', (error) => this.log.warn({ err: error }, 'redis (balance notices) error'))
-    this.subscriber.on('message', (channel, text) => { if (channel === BALANCE_CHANNEL) this._received(text) })
-    await this.subscriber.subscribe(BALANCE_CHANNEL)
+    this.subscriber = await subscribeToNotices({
+      redis: this.redis,
+      channels: [BALANCE_CHANNEL],
+      what: 'balance notices',
+      log: this.log,
+      onNotice: (channel, notice) => this._received(notice)
+    })
   }
 
   /** After a committed batch: tell the other processes whose balances changed. @param {Iterable<string>} playerIds */
@@ -51,14 +56,9 @@ export class BalanceSync {
       .catch((error) => this.log.warn({ err: error }, 'could not publish balance changes'))
   }
 
-  _received (text) {
-    let notice
-    try {
-      notice = JSON.parse(text)
-    } catch {
-      return
-    }
-    if (notice?.node === this.nodeId || !Array.isArray(notice.players)) return
+  /** @param {Record<string, any>} notice */
+  _received (notice) {
+    if (notice.node === this.nodeId || !Array.isArray(notice.players)) return
     this.stats.received++
     for (const playerId of notice.players) {
       const account = typeof playerId === 'string' ? this.accounts.held(playerId) : undefined
@@ -84,6 +84,6 @@ export class BalanceSync {
   }
 
   async close () {
-    await this.subscriber?.quit().catch(() => this.subscriber.disconnect())
+    await closeNotices(this.subscriber)
   }
 }

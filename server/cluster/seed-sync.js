@@ -1,3 +1,5 @@
+import { subscribeToNotices, closeNotices } from './notice-channel.js'
+
 /** Redis channel on which a process announces a player's server seed rotation. */
 export const SEED_CHANNEL = 'plinko:seeds'
 /** Redis channel on which the others answer once they have switched. */
@@ -43,15 +45,17 @@ export class SeedSync {
   }
 
   async start () {
-    this.subscriber = this.redis.duplicate()
-    this.subscriber.on('error', (error) => this.log.warn({ err: error }, 'redis (seed notices) error'))
-    this.subscriber.on('message', (channel, text) => {
-      const notice = parse(text)
-      if (!notice || notice.node === this.nodeId) return
-      if (channel === SEED_CHANNEL) this._received(notice)
-      else if (channel === SEED_ACK_CHANNEL) this._confirmed(notice)
+    this.subscriber = await subscribeToNotices({
+      redis: this.redis,
+      channels: [SEED_CHANNEL, SEED_ACK_CHANNEL],
+      what: 'seed notices',
+      log: this.log,
+      onNotice: (channel, notice) => {
+        if (notice.node === this.nodeId) return
+        if (channel === SEED_CHANNEL) this._received(notice)
+        else if (channel === SEED_ACK_CHANNEL) this._confirmed(notice)
+      }
     })
-    await this.subscriber.subscribe(SEED_CHANNEL, SEED_ACK_CHANNEL)
   }
 
   /**
@@ -123,15 +127,6 @@ export class SeedSync {
   }
 
   async close () {
-    await this.subscriber?.quit().catch(() => this.subscriber.disconnect())
-  }
-}
-
-function parse (text) {
-  try {
-    const value = JSON.parse(text)
-    return value && typeof value === 'object' ? value : null
-  } catch {
-    return null
+    await closeNotices(this.subscriber)
   }
 }

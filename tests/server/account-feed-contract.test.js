@@ -4,6 +4,9 @@ import { AccountBook } from '../../server/game/accounts.js'
 import { newServerSeed } from '../../server/fairness/seeds.js'
 import { toLedgerBatch } from '../../server/game/ledger-batch.js'
 import { eventually } from '../../tools/eventually.js'
+import Redis from 'ioredis'
+import { BALANCE_CHANNEL } from '../../server/cluster/balance-sync.js'
+import { SEED_CHANNEL, SEED_ACK_CHANNEL } from '../../server/cluster/seed-sync.js'
 
 /**
  * The account feed contract (server/coordination/account-feed.js), run
@@ -67,6 +70,31 @@ describe.each(MODES)('the account feed contract: $name', (entry) => {
     await eventually(() => there.balanceChanges.length > 0)
     expect(there.balanceChanges).toEqual([{ playerId, balance: balances.get(playerId) }])
     expect(here.balanceChanges).toEqual([])
+  })
+
+  it.runIf(entry.redis)('ignores anything on the notice channels that is no notice, and goes on delivering', async () => {
+    const a = await testbed.process()
+    const playerId = await createPlayer(a.store, 'garbled', 100)
+    const here = await holding(playerId, a)
+    const there = await holding(playerId)
+    const publisher = new Redis(testbed.redis().url)
+    const uncaught = []
+    const onUncaught = (error) => uncaught.push(error)
+    process.on('uncaughtException', onUncaught)
+    try {
+      for (const channel of [BALANCE_CHANNEL, SEED_CHANNEL, SEED_ACK_CHANNEL]) {
+        for (const text of ['null', '[1]', '42', 'not json', '{"players":5}', '{"id":7}']) await publisher.publish(channel, text)
+      }
+      const drop = ledgerDrop(1_000_002, here.account, here.account.seed.nextNonce)
+      const { balances } = await a.store.commitBatch(toLedgerBatch({ drops: [drop], settlements: [] }))
+      here.feed.balancesCommitted([playerId])
+      await eventually(() => there.balanceChanges.length > 0)
+      expect(there.balanceChanges).toEqual([{ playerId, balance: balances.get(playerId) }])
+      expect(uncaught).toEqual([])
+    } finally {
+      process.off('uncaughtException', onUncaught)
+      await publisher.quit()
+    }
   })
 
   it.runIf(entry.redis)('answers a rotation only once another process holding the account uses the new seed', async () => {
