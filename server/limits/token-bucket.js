@@ -27,6 +27,14 @@ export class TokenBucket {
     return this.tokens >= this.burst
   }
 
+  /** A new rate and burst from now on: what has accrued so far counts at the old rate, capped at the new burst. */
+  resize (rate, burst) {
+    this._refill()
+    this.rate = rate
+    this.burst = burst
+    this.tokens = Math.min(this.tokens, burst)
+  }
+
   _refill () {
     const now = this.now()
     this.tokens = Math.min(this.burst, this.tokens + (now - this.updatedAt) * this.rate / 1000)

@@ -53,12 +53,22 @@ export class IpLimits {
     this.maxSockets = Math.max(1, Math.floor(maxSockets / workers))
   }
 
+  /**
+   * Rate and burst of each of an address's buckets, from this process's share:
+   * two seconds' worth, the byte bucket at least one frame of maxPayload.
+   */
+  _bucketSizes () {
+    return {
+      drops: [this.dropRate, 2 * this.dropRate],
+      joins: [this.joinRate, 2 * this.joinRate],
+      frames: [this.messageRate, 2 * this.messageRate],
+      bytes: [this.byteRate, Math.max(2 * this.byteRate, this.maxPayload)]
+    }
+  }
+
   /** @param {IpEntry} entry */
   _resize (entry) {
-    resize(entry.drops, this.dropRate, 2 * this.dropRate)
-    resize(entry.joins, this.joinRate, 2 * this.joinRate)
-    resize(entry.frames, this.messageRate, 2 * this.messageRate)
-    resize(entry.bytes, this.byteRate, Math.max(2 * this.byteRate, this.maxPayload))
+    for (const [name, [rate, burst]] of Object.entries(this._bucketSizes())) entry[name].resize(rate, burst)
   }
 
   /** Open sockets from `ip` now. @param {string} ip */
@@ -78,12 +88,9 @@ export class IpLimits {
   acquire (ip) {
     let entry = this.entries.get(ip)
     if (!entry) {
-      entry = new IpEntry(ip, {
-        drops: new TokenBucket({ rate: this.dropRate, burst: 2 * this.dropRate, now: this.now }),
-        joins: new TokenBucket({ rate: this.joinRate, burst: 2 * this.joinRate, now: this.now }),
-        frames: new TokenBucket({ rate: this.messageRate, burst: 2 * this.messageRate, now: this.now }),
-        bytes: new TokenBucket({ rate: this.byteRate, burst: Math.max(2 * this.byteRate, this.maxPayload), now: this.now })
-      })
+      const buckets = {}
+      for (const [name, [rate, burst]] of Object.entries(this._bucketSizes())) buckets[name] = new TokenBucket({ rate, burst, now: this.now })
+      entry = new IpEntry(ip, buckets)
       this.entries.set(ip, entry)
     }
     entry.open++
@@ -106,14 +113,6 @@ export class IpLimits {
     }
     return forgotten
   }
-}
-
-/** @param {TokenBucket} bucket @param {number} rate @param {number} burst */
-function resize (bucket, rate, burst) {
-  bucket.take(0)
-  bucket.rate = rate
-  bucket.burst = burst
-  bucket.tokens = Math.min(bucket.tokens, burst)
 }
 
 /**
