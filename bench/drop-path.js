@@ -35,6 +35,7 @@ import { createMetrics } from '../server/metrics.js'
 import { openStore } from '../server/store/open-store.js'
 import { createSession } from '../server/game/sessions.js'
 import { Connection } from '../server/realtime/connection.js'
+import { TokenBucket } from '../server/limits/token-bucket.js'
 import { createMessageParser } from '../server/realtime/message-schemas.js'
 import { ROOM_IDS } from '../protocol/room-id.js'
 import { formatTable, fixed, int } from '../cli/text-table.js'
@@ -117,7 +118,7 @@ async function seatPlayers (arena, store, config, metrics, parseMessage) {
     for (let p = 0; p < options.perRoom; p++) {
       const session = await createSession(store, config)
       const socket = new StandInSocket()
-      const connection = new Connection({ socket, arena, parseMessage, metrics, log: silentLog, softLimit: 1 << 20, hardLimit: 1 << 22 })
+      const connection = new Connection({ socket, arena, parseMessage, metrics, log: silentLog, softLimit: 1 << 20, hardLimit: 1 << 22, messageLimiter: new TokenBucket({ rate: config.wsMessageRate, burst: config.wsMessageBurst }) })
       connection.authenticated(await arena.accounts.acquire(session.playerId))
       await arena.join(connection, ROOM_IDS[r % ROOM_IDS.length], options.delivery)
       players.push({ connection, socket, phase: players.length % DROP_EVERY_TICKS, refs: 0 })
