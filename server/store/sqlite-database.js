@@ -3,10 +3,23 @@ import path from 'node:path'
 import { DatabaseSync } from 'node:sqlite'
 
 /**
+ * Pages the WAL may hold before a commit copies them into the database
+ * (SQLite's automatic checkpoint; its default is 1,000). A tick's
+ * transaction writes about 100 pages, mostly the same hot ones (players,
+ * seeds, the ends of the drops indexes): a checkpoint copies each page once
+ * however often it was written since the last, so checkpointing a tenth as
+ * often copies far fewer pages per drop (the writer thread's CPU per drop
+ * fell by about a tenth, loadtest/RESULTS.md). The WAL file grows to about
+ * 40 MB (4 KiB pages) and stays that size.
+ */
+export const WAL_AUTOCHECKPOINT_PAGES = 10_000
+
+/**
  * A connection to the ledger's SQLite file as every part of the store opens
  * it, on Node's own SQLite (`node:sqlite`, no native addon): WAL journal
  * with synchronous=FULL (a committed transaction survives a power cut),
- * foreign keys on, a 16 MB page cache, and a busy timeout, since the
+ * foreign keys on, a 16 MB page cache, a checkpoint every
+ * WAL_AUTOCHECKPOINT_PAGES, and a busy timeout, since the
  * store's connection (reads, migrations) and its writer thread's take turns.
  * @param {string} file path or ':memory:'
  * @param {{ busyTimeoutMs?: number }} [options] how long a write waits for another connection's lock (default 5 s)
@@ -30,6 +43,7 @@ export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
     // every commit then re-reads their pages: 16 MB per connection, as
     // better-sqlite3 had (see docs/troubleshooting.md, the driver figures).
     db.exec('PRAGMA cache_size = -16000')
+    db.exec(`PRAGMA wal_autocheckpoint = ${WAL_AUTOCHECKPOINT_PAGES}`)
   } catch (error) {
     db?.close()
     throw cannotOpen(file, withSqliteCode(error))

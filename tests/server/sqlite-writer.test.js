@@ -5,6 +5,7 @@ import path from 'node:path'
 import { DatabaseSync } from 'node:sqlite'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
 import { WRITER_THREAD_NICE } from '../../server/store/sqlite-writer.js'
+import { WAL_AUTOCHECKPOINT_PAGES } from '../../server/store/sqlite-database.js'
 
 /** Nice value of every thread of this process, by thread id (Linux /proc). */
 const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
@@ -67,6 +68,17 @@ describe('SQLite writer thread', () => {
     // The next batch goes through.
     await store.commitBatch(batch([drop(3)]))
     expect(read('SELECT id FROM drops ORDER BY id')).toEqual([{ id: 1 }, { id: 3 }])
+  })
+
+  it(`checkpoints once the WAL holds ${WAL_AUTOCHECKPOINT_PAGES} pages, not at SQLite's default 1,000`, async () => {
+    const walPages = () => (fs.statSync(`${file}-wal`).size - 32) / (4096 + 24)
+    for (let id = 1; walPages() <= 1200; id++) {
+      expect(id, 'the WAL grows past 1,200 pages').toBeLessThan(2000)
+      await store.commitBatch(batch([{ ...drop(id), nonce: id }]))
+    }
+    // Had it been checkpointed at 1,000 pages, the next commit would have started it over from its first page.
+    expect(walPages()).toBeLessThan(WAL_AUTOCHECKPOINT_PAGES)
+    expect(read('SELECT COUNT(*) AS n FROM drops')[0].n).toBeGreaterThan(100)
   })
 
   it('close() waits for the batches already sent', async () => {
