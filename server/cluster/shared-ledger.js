@@ -1,6 +1,6 @@
 import { PostgresStore, columns, insertInFlightDrops } from '../store/postgres-store.js'
 import { gameError } from '../errors.js'
-import { toDropRecord } from '../store/records.js'
+import { toDropRecord, DROP_SQL, settlementArrays } from '../store/records.js'
 import { betTotals, payoutTotals } from '../game/money.js'
 
 /** Nonces reserved per (process, seed) at a time; a reservation is never given back. */
@@ -222,13 +222,7 @@ async function recordDropsIfPaid (client, drops) {
 async function settleInFlight (client, settlements, players) {
   const settled = new Set()
   if (settlements.length === 0) return settled
-  const { rows } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
-      multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
-    FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
-      AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
-    WHERE d.id = s.id AND d.status = 'in_flight'
-    RETURNING d.id, d.player_id, s.payout`,
-  columns(settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
+  const { rows } = await client.query(`${DROP_SQL.postgres.settle} RETURNING d.id, d.player_id, s.payout`, settlementArrays(settlements))
   for (const row of rows) {
     settled.add(Number(row.id))
     players.add(row.player_id)

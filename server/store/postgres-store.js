@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, newDropArrays, settlementArrays } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -100,12 +100,7 @@ export class PostgresStore {
       }
       const settlements = batch.settlements
       if (settlements.length > 0) {
-        const { rowCount } = await client.query(`UPDATE drops AS d SET status = 'settled', bucket = s.bucket,
-            multiplier = s.multiplier, payout = s.payout, ticks = s.ticks, state_hash = s.state_hash, settled_at = s.settled_at
-          FROM unnest($1::bigint[], $2::smallint[], $3::float8[], $4::bigint[], $5::integer[], $6::text[], $7::bigint[])
-            AS s (id, bucket, multiplier, payout, ticks, state_hash, settled_at)
-          WHERE d.id = s.id AND d.status = 'in_flight'`,
-        columns(settlements, ['id', 'bucket', 'multiplier', 'payout', 'ticks', 'stateHash', 'settledAt']))
+        const { rowCount } = await client.query(DROP_SQL.postgres.settle, settlementArrays(settlements))
         if (rowCount !== settlements.length) throw new Error('a drop in the batch is not in flight; refusing to settle it twice')
       }
       if (batch.balances.length > 0) {
@@ -219,17 +214,8 @@ export function columns (rows, fields) {
  * Inserts new drops, status in_flight, in one statement. Shared by the
  * single-process store and the cluster's shared ledger.
  * @param {import('pg').PoolClient} client
- * @param {object[]} drops
+ * @param {import('./records.js').NewDropRow[]} drops
  */
 export async function insertInFlightDrops (client, drops) {
-  await client.query(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-      server_seed_hash, client_seed, nonce, drop_seed, bet, payout_rule, start_tick, status, created_at)
-    SELECT id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-      nonce, drop_seed, bet, payout_rule, start_tick, 'in_flight', created_at
-    FROM unnest($1::bigint[], $2::text[], $3::text[], $4::smallint[], $5::text[], $6::text[], $7::text[],
-      $8::text[], $9::text[], $10::bigint[], $11::text[], $12::bigint[], $13::smallint[], $14::bigint[], $15::bigint[])
-      AS t (id, player_id, room, rows, risk, engine_version, server_seed_id, server_seed_hash, client_seed,
-        nonce, drop_seed, bet, payout_rule, start_tick, created_at)`,
-  columns(drops, ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedId', 'serverSeedHash',
-    'clientSeed', 'nonce', 'dropSeed', 'bet', 'payoutRule', 'startTick', 'createdAt']))
+  await client.query(DROP_SQL.postgres.insert, newDropArrays(drops))
 }

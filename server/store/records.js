@@ -3,12 +3,107 @@ import { toCredits, toMilli } from '../../protocol/payout.js'
 /**
  * Maps database rows (snake_case, the same from both stores once numbers are
  * parsed) to the records the API returns, and describes what the ledger
- * writes.
+ * writes. The drop row is here whole, for both SQL dialects: its columns
+ * (what a new drop writes, what its settlement writes), the statements that
+ * write them, and the row as the API's record.
  */
 
 /**
- * A `drops` row as the API returns it. `revealed_server_seed` is only ever
- * selected for seeds that have been revealed.
+ * One column of the drops table: its name, the field of the row the game
+ * hands the ledger (NewDropRow, SettlementRow) and its PostgreSQL type (the
+ * arrays unnest() expands).
+ * @typedef {{ name: string, field: string, pgType: string }} DropColumn
+ */
+const column = (name, field, pgType) => Object.freeze({ name, field, pgType })
+
+/** @type {readonly DropColumn[]} what a new drop writes; its status is 'in_flight' */
+export const NEW_DROP_COLUMNS = Object.freeze([
+  column('id', 'id', 'bigint'),
+  column('player_id', 'playerId', 'text'),
+  column('room', 'room', 'text'),
+  column('rows', 'rows', 'smallint'),
+  column('risk', 'risk', 'text'),
+  column('engine_version', 'engineVersion', 'text'),
+  column('server_seed_id', 'serverSeedId', 'text'),
+  column('server_seed_hash', 'serverSeedHash', 'text'),
+  column('client_seed', 'clientSeed', 'text'),
+  column('nonce', 'nonce', 'bigint'),
+  column('drop_seed', 'dropSeed', 'text'),
+  column('bet', 'bet', 'bigint'),
+  column('payout_rule', 'payoutRule', 'smallint'),
+  column('start_tick', 'startTick', 'bigint'),
+  column('created_at', 'createdAt', 'bigint')
+])
+
+/** @type {readonly DropColumn[]} what a landing writes into its drop's row (found by `id`); its status becomes 'settled' */
+export const SETTLEMENT_COLUMNS = Object.freeze([
+  column('bucket', 'bucket', 'smallint'),
+  column('multiplier', 'multiplier', 'float8'),
+  column('payout', 'payout', 'bigint'),
+  column('ticks', 'ticks', 'integer'),
+  column('state_hash', 'stateHash', 'text'),
+  column('settled_at', 'settledAt', 'bigint')
+])
+
+const names = (columns) => columns.map((c) => c.name).join(', ')
+const NEW_DROP_NAMES = names(NEW_DROP_COLUMNS)
+const SETTLED_ID = column('id', 'id', 'bigint')
+
+/**
+ * The statements writing a drop's row, in each dialect. SQLite binds one
+ * row at a time (newDropValues, settlementValues); PostgreSQL takes a whole
+ * batch as one array per column (newDropArrays, settlementArrays) through
+ * unnest(). A settlement changes only a row still in flight: the caller
+ * counts the rows changed (SQLite: `changes`; PostgreSQL: `rowCount`, or the
+ * rows RETURNING lists).
+ */
+export const DROP_SQL = Object.freeze({
+  sqlite: Object.freeze({
+    insert: `INSERT INTO drops (${NEW_DROP_NAMES}, status) VALUES (${NEW_DROP_COLUMNS.map(() => '?').join(', ')}, 'in_flight')`,
+    settle: `UPDATE drops SET status = 'settled', ${SETTLEMENT_COLUMNS.map((c) => `${c.name} = ?`).join(', ')}
+      WHERE id = ? AND status = 'in_flight'`
+  }),
+  postgres: Object.freeze({
+    insert: `INSERT INTO drops (${NEW_DROP_NAMES}, status)
+      SELECT ${NEW_DROP_NAMES}, 'in_flight' FROM ${unnest(NEW_DROP_COLUMNS, 't')}`,
+    settle: `UPDATE drops AS d SET status = 'settled', ${SETTLEMENT_COLUMNS.map((c) => `${c.name} = s.${c.name}`).join(', ')}
+      FROM ${unnest([SETTLED_ID, ...SETTLEMENT_COLUMNS], 's')}
+      WHERE d.id = s.id AND d.status = 'in_flight'`
+  })
+})
+
+/** `unnest($1::bigint[], …) AS alias (name, …)`: a table of the columns from one array parameter each. */
+function unnest (columns, alias) {
+  return `unnest(${columns.map((c, i) => `$${i + 1}::${c.pgType}[]`).join(', ')}) AS ${alias} (${names(columns)})`
+}
+
+/** A new drop's values in NEW_DROP_COLUMNS' order (DROP_SQL.sqlite.insert). @param {NewDropRow} drop */
+export function newDropValues (drop) {
+  return NEW_DROP_COLUMNS.map((c) => drop[c.field])
+}
+
+/** A settlement's values, then its drop's id (DROP_SQL.sqlite.settle). @param {SettlementRow} settlement */
+export function settlementValues (settlement) {
+  const values = SETTLEMENT_COLUMNS.map((c) => settlement[c.field])
+  values.push(settlement.id)
+  return values
+}
+
+/** New drops as one array per column (DROP_SQL.postgres.insert). @param {NewDropRow[]} drops */
+export function newDropArrays (drops) {
+  return NEW_DROP_COLUMNS.map((c) => drops.map((drop) => drop[c.field]))
+}
+
+/** Settlements as their ids, then one array per column (DROP_SQL.postgres.settle). @param {SettlementRow[]} settlements */
+export function settlementArrays (settlements) {
+  return [SETTLED_ID, ...SETTLEMENT_COLUMNS].map((c) => settlements.map((s) => s[c.field]))
+}
+
+/**
+ * A `drops` row as the API returns it: every column but server_seed_id (the
+ * seed is named by its hash), money in credits, times as ISO strings.
+ * `revealed_server_seed` is only ever selected for seeds that have been
+ * revealed.
  * @param {Record<string, any>} row
  */
 export function toDropRecord (row) {
@@ -43,7 +138,7 @@ export function toDropRecord (row) {
 export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_server_seed`
 
 /**
- * @typedef {object} NewDropRow what the ledger writes when a drop is accepted
+ * @typedef {object} NewDropRow what the ledger writes when a drop is accepted (NEW_DROP_COLUMNS)
  * @property {number} id @property {string} playerId @property {string} room
  * @property {number} rows @property {string} risk @property {string} engineVersion
  * @property {string} serverSeedId @property {string} serverSeedHash
@@ -53,7 +148,7 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  */
 
 /**
- * @typedef {object} SettlementRow what the ledger writes when a drop lands
+ * @typedef {object} SettlementRow what the ledger writes when a drop lands (SETTLEMENT_COLUMNS, by `id`)
  * @property {number} id @property {number} bucket @property {number} multiplier
  * @property {number} payout milli-credits @property {number} ticks @property {string} stateHash
  * @property {number} settledAt ms

@@ -1,4 +1,4 @@
-import { wholeBatchCommitted } from './records.js'
+import { wholeBatchCommitted, DROP_SQL, newDropValues, settlementValues } from './records.js'
 import { immediateTransaction } from './sqlite-database.js'
 
 /**
@@ -13,11 +13,8 @@ import { immediateTransaction } from './sqlite-database.js'
  * @param {import('node:sqlite').DatabaseSync} db
  */
 export function prepareWrites (db) {
-  const insertDrop = db.prepare(`INSERT INTO drops (id, player_id, room, rows, risk, engine_version, server_seed_id,
-      server_seed_hash, client_seed, nonce, drop_seed, bet, payout_rule, start_tick, status, created_at)
-    VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, 'in_flight', ?)`)
-  const settle = db.prepare(`UPDATE drops SET status = 'settled', bucket = ?, multiplier = ?, payout = ?,
-      ticks = ?, state_hash = ?, settled_at = ? WHERE id = ? AND status = 'in_flight'`)
+  const insertDrop = db.prepare(DROP_SQL.sqlite.insert)
+  const settle = db.prepare(DROP_SQL.sqlite.settle)
   const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
   const nonce = db.prepare('UPDATE server_seeds SET next_nonce = MAX(next_nonce, ?) WHERE id = ?')
   const clientSeed = db.prepare('UPDATE players SET client_seed = ? WHERE id = ?')
@@ -35,13 +32,9 @@ export function prepareWrites (db) {
      * @returns {import('../game/money.js').CommitOutcome}
      */
     commitBatch: (batch) => immediateTransaction(db, () => {
-      for (const d of batch.drops) {
-        insertDrop.run(d.id, d.playerId, d.room, d.rows, d.risk, d.engineVersion, d.serverSeedId,
-          d.serverSeedHash, d.clientSeed, d.nonce, d.dropSeed, d.bet, d.payoutRule, d.startTick, d.createdAt)
-      }
+      for (const d of batch.drops) insertDrop.run(...newDropValues(d))
       for (const s of batch.settlements) {
-        const { changes } = settle.run(s.bucket, s.multiplier, s.payout, s.ticks, s.stateHash, s.settledAt, s.id)
-        if (changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
+        if (settle.run(...settlementValues(s)).changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
       }
       for (const b of batch.balances) {
         if (credit.run(b.delta, b.playerId).changes !== 1) throw new Error(`no player ${b.playerId}`)

@@ -89,7 +89,13 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ backend: kind, o
     const settled = await store.commitBatch(toLedgerBatch({ drops: [], settlements: [settlement(first, 2.5)] }))
     expect([...settled.settled]).toEqual([1])
     expect(settled.balances.get('player-ada')).toBe(toMilli(110))
-    expect(await store.getDrop(1)).toMatchObject({ status: 'settled', bucket: 3, multiplier: 2.5, payout: 25, ticks: 180, stateHash: '0123456789abcdef' })
+    // Every column of the row, as written by this implementation's statements (server/store/records.js).
+    expect(await store.getDrop(1)).toEqual({
+      id: 1, playerId: 'player-ada', room: '16-medium', rows: 16, risk: 'medium', engineVersion: '2.0.0', serverSeedHash: account.seed.hash,
+      clientSeed: 'client-ada', nonce: 0, dropSeed: first.dropSeed, bet: 10, bucket: 3, multiplier: 2.5, payout: 25, payoutRule: 1,
+      startTick: 101, ticks: 180, stateHash: '0123456789abcdef', status: 'settled', serverSeed: null,
+      createdAt: new Date(first.createdAt).toISOString(), settledAt: new Date(first.createdAt + 3000).toISOString()
+    })
     expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([2])
     const reloaded = await store.loadAccount('player-ada')
     expect(reloaded.balance).toBe(toMilli(110))
