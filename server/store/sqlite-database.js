@@ -57,37 +57,11 @@ function cannotOpen (file, error) {
   return Object.assign(new Error(`cannot open the SQLite ledger ${file}: ${error.message}${wanted}`, { cause: error }), { code: error.code })
 }
 
-/**
- * Runs `work` in one transaction that takes the write lock up front
- * (BEGIN IMMEDIATE: a busy database fails here, before anything is done)
- * and commits it, or rolls it back and rethrows if anything in it throws.
- * node:sqlite's errors carry SQLite's result code as a number (`errcode`);
- * the one rethrown also has its name as `code` (SQLITE_BUSY, ...).
- * @template T @param {DatabaseSync} db @param {() => T} work @returns {T}
- */
-export function immediateTransaction (db, work) {
-  try {
-    db.exec('BEGIN IMMEDIATE')
-  } catch (error) {
-    throw withSqliteCode(error)
-  }
-  try {
-    const result = work()
-    db.exec('COMMIT')
-    return result
-  } catch (error) {
-    if (db.isTransaction) {
-      try { db.exec('ROLLBACK') } catch {} // SQLite may have rolled back already; the first error is the one to report
-    }
-    throw withSqliteCode(error)
-  }
-}
-
 /** SQLite's primary result codes the store tells apart (https://sqlite.org/rescode.html). */
 const RESULT_CODES = new Map([[5, 'SQLITE_BUSY'], [6, 'SQLITE_LOCKED'], [8, 'SQLITE_READONLY'], [13, 'SQLITE_FULL'], [14, 'SQLITE_CANTOPEN'], [19, 'SQLITE_CONSTRAINT']])
 
 /** The error, its `code` set to SQLite's name for its result code where it has one of RESULT_CODES. */
-function withSqliteCode (error) {
+export function withSqliteCode (error) {
   const name = typeof error?.errcode === 'number' ? RESULT_CODES.get(error.errcode & 0xff) : undefined
   if (name) error.code = name
   return error

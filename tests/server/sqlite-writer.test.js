@@ -3,8 +3,9 @@ import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
 import { DatabaseSync } from 'node:sqlite'
+import { Worker } from 'node:worker_threads'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
-import { WRITER_THREAD_NICE } from '../../server/store/sqlite-writer.js'
+import { WRITER_THREAD_NICE } from '../../server/store/sqlite-store.js'
 import { WAL_AUTOCHECKPOINT_PAGES } from '../../server/store/sqlite-database.js'
 
 /** Nice value of every thread of this process, by thread id (Linux /proc). */
@@ -15,7 +16,7 @@ const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) =>
 
 /**
  * The SQLite store commits the tick's batches on a writer thread with its
- * own connection (server/store/sqlite-writer.js): what it reports committed
+ * own connection (server/store/sqlite-store.js, sqlite-writer-thread.js): what it reports committed
  * is in the file, a failed batch leaves nothing behind, close() waits for
  * what was sent, and a thread that dies is replaced.
  */
@@ -79,6 +80,24 @@ describe('SQLite writer thread', () => {
     // Had it been checkpointed at 1,000 pages, the next commit would have started it over from its first page.
     expect(walPages()).toBeLessThan(WAL_AUTOCHECKPOINT_PAGES)
     expect(read('SELECT COUNT(*) AS n FROM drops')[0].n).toBeGreaterThan(100)
+  })
+
+  it('starts the writer only where the store asked for it: imported by another thread (an in-memory store), its file runs nothing', async () => {
+    const url = new URL('../../server/store/sqlite-writer-thread.js', import.meta.url).href
+    const code = `const { parentPort } = require('node:worker_threads')
+      import(${JSON.stringify(url)}).then((m) => parentPort.postMessage({ listeners: parentPort.listenerCount('message'), writes: m.WRITES }))`
+    const worker = new Worker(code, { eval: true, workerData: { something: 'else' } })
+    const reply = await new Promise((resolve, reject) => { worker.once('message', resolve); worker.once('error', reject) })
+    await worker.terminate()
+    expect(reply).toEqual({ listeners: 0, writes: ['commitBatch', 'createPlayer', 'rotateSeed'] })
+    // The in-memory store runs the same transactions on its own connection.
+    const memory = new SqliteStore({ file: ':memory:' })
+    await memory.migrate()
+    await memory.createPlayer({ id: 'p1', tokenHash: 'h1', balance: 1000, clientSeed: 'c', createdAt: 1, seed: { id: 's1', seed: 'a'.repeat(64), hash: 'b'.repeat(64) } })
+    await memory.commitBatch(batch([drop(1)], [], [{ playerId: 'p1', delta: -10 }]))
+    expect(memory._writer).toBeNull()
+    expect((await memory.loadAccount('p1')).balance).toBe(990)
+    await memory.close()
   })
 
   it('close() waits for the batches already sent', async () => {
