@@ -28,6 +28,11 @@ import { StateHasher } from '../engine/state-hasher.js'
  *   9       4      hash word 2, uint32 } digits hex8(word 1) + hex8(word 2)
  *   13      2      N, uint16: number of events
  *   15      64·N   the events, oldest first
+ *   15+64·N rest   the receiver's own messages (optional, this socket's copy only): ASCII text
+ *                  of a JSON array of the server's JSON messages for this player, oldest first
+ *                  (today: its `settled` messages in this room, each with its balance), to be
+ *                  handled after the events as if each had come on its own. Absent (the frame
+ *                  ends after the events) when there are none.
  *
  * One event (64 bytes), another player's drop as `dropped` announces it:
  *
@@ -88,6 +93,7 @@ const HEX16 = /^[0-9a-f]{16}$/
  * @typedef {object} DropEventsFrame
  * @property {number} tick @property {string} hash 16 hex digits (FlightHasher)
  * @property {DropEvent[]} events
+ * @property {object[]} own this socket's own messages (the owner's section), oldest first; [] when none
  */
 
 /**
@@ -127,8 +133,28 @@ export function encodeDropEvents (tick, hash, drops) {
 }
 
 /**
+ * A room's frame with one socket's own messages after its events (the
+ * owner's section of the header comment): a copy, the room's bytes first.
+ * Non-ASCII characters are written as \u escapes, so every decoder can read
+ * the section byte by byte.
+ * @param {Uint8Array} frame from encodeDropEvents()
+ * @param {string[]} messages JSON texts of this socket's messages, oldest first
+ * @returns {Uint8Array}
+ */
+export function withOwnMessages (frame, messages) {
+  const text = `[${messages.join(',')}]`.replace(NON_ASCII, (c) => `\\u${c.charCodeAt(0).toString(16).padStart(4, '0')}`)
+  const bytes = new Uint8Array(frame.length + text.length)
+  bytes.set(frame)
+  for (let i = 0, at = frame.length; i < text.length; i++, at++) bytes[at] = text.charCodeAt(i)
+  return bytes
+}
+
+const NON_ASCII = /[^\x00-\x7f]/g
+
+/**
  * Decodes a drop-events frame; null for a frame of another kind, a
- * truncated one or one naming an engine version this module does not know.
+ * truncated one, one naming an engine version this module does not know,
+ * or one whose own messages are not a JSON array.
  * @param {Uint8Array | ArrayBuffer} frame
  * @returns {DropEventsFrame | null}
  */
@@ -153,7 +179,22 @@ export function decodeDropEvents (frame) {
       dropSeed: readHex(bytes, at + 32, 32)
     }
   }
-  return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events }
+  const own = ownMessages(bytes, DROP_EVENTS_HEADER_BYTES + count * DROP_EVENT_BYTES)
+  if (own === null) return null
+  return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events, own }
+}
+
+/** The owner's section from `at` to the end: [] when there is none, null when it is not a JSON array. */
+function ownMessages (bytes, at) {
+  if (at === bytes.byteLength) return []
+  let text = ''
+  for (let i = at; i < bytes.byteLength; i += 4096) text += String.fromCharCode.apply(null, bytes.subarray(i, Math.min(i + 4096, bytes.byteLength)))
+  try {
+    const messages = JSON.parse(text)
+    return Array.isArray(messages) ? messages : null
+  } catch {
+    return null
+  }
 }
 
 /**

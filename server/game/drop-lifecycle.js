@@ -278,10 +278,11 @@ export class DropLifecycle {
   }
 
   /**
-   * Sends a drop event to all of the owner's connections at once (only the
-   * owner's copy carries the balance, and only the connection that asked
-   * gets its `ref` back): in every delivery mode, this is how a player's
-   * balance changes reach it. The room's feeds tell everyone else, each in
+   * Sends a drop event to all of the owner's connections (only the owner's
+   * copy carries the balance, and only the connection that asked gets its
+   * `ref` back): in every delivery mode, this is how a player's balance
+   * changes reach it; `dropped` at once, `settled` when the socket's feed in
+   * the drop's room says (Connection.sendSettled). The room's feeds tell everyone else, each in
    * its own way and pace (server/realtime/deliveries.js); the owner's
    * connections in the room get that copy too, and skip their own events.
    * @param {number} balance the owner's, in credits
@@ -294,8 +295,10 @@ export class DropLifecycle {
     const owner = `${text.slice(0, -1)},"balance":${JSON.stringify(balance)}}`
     const type = message.type
     for (const client of drop.account.connections) {
-      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(`${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}`, type)
-      else client.sendEvent(owner, type)
+      const copy = client === drop.origin && drop.ref !== undefined ? `${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}` : owner
+      // `settled`: the socket's feed in the drop's room decides when (it may ride in the room's next frame).
+      if (type === 'settled') client.sendSettled(copy, drop.room)
+      else client.sendEvent(copy, type)
     }
     return text
   }

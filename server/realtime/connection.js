@@ -56,6 +56,8 @@ export class Connection {
     /** This client IP's shared drop, join and frame buckets (server/realtime/ip-limits.js), set by the route once it counts the socket. */
     this.ipLimits = NO_ADDRESS_LIMITS
     this._early = []
+    /** JSON texts held for the room's next frame (RoomFeed.ownerSettled), oldest first. @type {string[]} */
+    this._deferred = []
     socket.on('message', (data, isBinary) => {
       if (this.account) this._receive(data, isBinary)
       else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.drop(1008, 'too many messages before authentication')
@@ -175,10 +177,48 @@ export class Connection {
   sendEvent (text, type) {
     if (this.closed) return
     if (this.socket.bufferedAmount > this.hardLimit) return this._tooSlow()
+    // Held messages go first, so the client sees every message, and every balance, in order.
+    if (this._deferred.length > 0) this.sendDeferred()
     holdWritesUntilEndOfTurn(this.socket)
     this.socket.send(text)
     this.metrics.messagesOut.labels(type).inc()
     this.metrics.bytesOut.inc(Buffer.byteLength(text))
+  }
+
+  /**
+   * The owner's `settled` of a drop in `room`: its feed there decides when
+   * it goes (at once, or in the room's next frame: deliveries.js); from any
+   * other room, or none, at once.
+   * @param {string} text @param {import('../rooms/room.js').Room} room
+   */
+  sendSettled (text, room) {
+    if (this.feed !== null && this.room === room) this.feed.ownerSettled(this, text)
+    else this.sendEvent(text, 'settled')
+  }
+
+  /** Holds a `settled` for the room's next frame (the seeds delivery). @param {string} text */
+  defer (text) {
+    if (!this.closed) this._deferred.push(text)
+  }
+
+  /** The held messages for a frame, oldest first, counted as sent; null when none. @returns {string[] | null} */
+  takeDeferred () {
+    if (this._deferred.length === 0) return null
+    const texts = this._deferred
+    this._deferred = []
+    this.metrics.messagesOut.labels('settled').inc(texts.length)
+    return texts
+  }
+
+  /** Sends the held messages on their own (leaving the room, closing, or before any other message). */
+  sendDeferred () {
+    const texts = this.takeDeferred()
+    if (texts === null || this.closed) return
+    holdWritesUntilEndOfTurn(this.socket)
+    for (const text of texts) {
+      this.socket.send(text)
+      this.metrics.bytesOut.inc(Buffer.byteLength(text))
+    }
   }
 
   /**
@@ -267,6 +307,7 @@ export class Connection {
   /** @param {number} code @param {string} reason */
   close (code, reason) {
     if (this.closed) return
+    this.sendDeferred()
     this._closed()
     this.socket.close(code, reason)
   }

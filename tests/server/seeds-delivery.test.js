@@ -100,8 +100,25 @@ describe('seeds delivery', () => {
       known.push(...frame.events)
       expect(pageFlightHash(board, frame.tick, known)).toBe(frame.hash)
     }
-    // The dropper got the same frames (its own drops in them, to skip).
-    expect(dropper.client.eventFrames.map((f) => f.hash)).toEqual(frames.map((f) => f.hash))
+    // The dropper got the same frames (its own drops in them, to skip), and besides them only
+    // frames that carry its own `settled` (the owner's section) with no events.
+    const dropperFrames = dropper.client.eventFrames
+    const everyones = dropperFrames.filter((f) => frames.some((w) => w.tick === f.tick))
+    expect(everyones.map((f) => f.hash)).toEqual(frames.map((f) => f.hash))
+    for (const f of dropperFrames.filter((d) => !everyones.includes(d))) {
+      expect(f.events).toEqual([])
+      expect(f.own.length).toBeGreaterThan(0)
+      expect(f.own.every((m) => m.type === 'settled')).toBe(true)
+    }
+    // Its `settled` came in those frames, never on its own, each on the room's event grid
+    // after the ball landed; the watcher's frames carry no one else's.
+    const ownSettled = dropper.client.messages.filter((m) => m.type === 'settled')
+    expect(ownSettled.map((m) => m.dropId).sort()).toEqual([...ids].sort())
+    for (const m of ownSettled) {
+      expect(m.viaFrame).toBeGreaterThanOrEqual(m.tick)
+      expect((m.viaFrame - frames[0].tick) % 15).toBe(0)
+    }
+    expect(frames.every((f) => f.own.length === 0)).toBe(true)
     await Promise.all([watcher.client.close(), spectator.client.close(), dropper.client.close()])
   })
 
