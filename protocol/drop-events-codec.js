@@ -10,7 +10,9 @@ import { StateHasher } from '../engine/state-hasher.js'
  * page simulates every ball itself from its drop seed (the engine gives the
  * same bits everywhere). Besides its own JSON replies it gets one kind of
  * binary frame, the drop-events frame, built once per room and sent as the
- * same bytes to every seeds socket in it:
+ * same bytes to every seeds socket in it (a socket's own messages appended
+ * to its copy: the owner's section below; a socket whose own drops are all
+ * a frame holds does not get it, unless with its owner's section):
  *
  * - at most every EVENT_EVERY ticks (joined.eventEvery = 60 / EVENT_HZ), with
  *   the drops announced in the room since the previous frame, oldest first;

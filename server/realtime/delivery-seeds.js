@@ -82,6 +82,8 @@ class SeedFeed {
     // A period's drops fit one frame: at most MAX_BALLS_PER_ROOM (≤ 4,096) are in flight,
     // and no ball lands within one period (≤ 1 s), far below MAX_EVENTS_PER_FRAME.
     const frame = encodeDropEvents(tick, this._flightHash(), this.pending)
+    // A frame of one player's drops alone tells that player nothing it has not had in its `dropped`.
+    const onlyDropsOf = soleDropper(this.pending)
     this.pending.length = 0
     if (forEveryone) this.lastFrameTick = tick
     let written = 0
@@ -89,7 +91,8 @@ class SeedFeed {
     const owed = this.owed
     for (const client of forEveryone ? this.clients : owed) {
       const own = owed.size > 0 && owed.has(client) ? client.takeDeferred() : null
-      if (own === null && !forEveryone) continue // what it was owed went out on its own since
+      // Nothing for it: what it was owed went out on its own since, or the frame holds its own drops only.
+      if (own === null && (!forEveryone || client.account === onlyDropsOf)) continue
       const copy = own === null ? frame : withOwnMessages(frame, own)
       if (client.sendEventFrame(copy)) { written++; bytes += copy.length }
     }
@@ -109,4 +112,15 @@ class SeedFeed {
     }
     return hasher.digest()
   }
+}
+
+/**
+ * The account whose drops are all of `drops`, or null (none, or several players').
+ * @param {import('../game/drop.js').Drop[]} drops
+ */
+function soleDropper (drops) {
+  if (drops.length === 0) return null
+  const account = drops[0].account
+  for (let i = 1; i < drops.length; i++) if (drops[i].account !== account) return null
+  return account
 }
