@@ -53,8 +53,9 @@ import { StateHasher } from '../engine/state-hasher.js'
  * steps of a DropSimulator into which it was added alone: balls do not
  * collide, so a drop's path depends on its seed and the board only. The
  * full facts for verifying it (server seed hash, client seed, nonce, and
- * once landed the bucket, payout and state hash) are public at
- * GET /api/public/drops/:dropId.
+ * once landed the bucket, payout and state hash) are served to whoever has
+ * its seed, at its share link GET /api/share/:dropId/:token (the token is
+ * the seed's, protocol/share-token.js).
  *
  * Flight hash: the balls in flight at `tick` that the room has announced
  * (every one was named in `joined.balls`, a `dropped` reply or an event

@@ -21,11 +21,12 @@ export const PHONE = { width: 390, height: 844 }
 
 /**
  * Opens the player page in a fresh context and waits for it to join its room.
- * @param {{ newPage: Function }} chromium @param {{ base: string }} server @param {object} [options] context options
+ * @param {{ newPage: Function }} chromium @param {{ base: string }} server
+ * @param {object} [options] context options, and `path`: the page's address (default `/`, e.g. `/?delivery=snapshots`)
  */
-export async function openPlayer (chromium, server, options = {}) {
+export async function openPlayer (chromium, server, { path = '/', ...options } = {}) {
   const page = await chromium.newPage({ viewport: DESKTOP, ...options })
-  await page.goto(`${server.base}/`)
+  await page.goto(`${server.base}${path}`)
   await waitInPage(page, 'the page to join its room', () => window.__plinko?.ready === true)
   return page
 }
