@@ -1,4 +1,4 @@
-import { clientMessageSchemas } from './message-schemas.js'
+import { clientMessageSchemas } from '../../protocol/client-messages.js'
 import { ERROR_CODES } from '../errors.js'
 import { SNAPSHOT_KIND, ROOM_FRAME_KIND } from '../../protocol/snapshot-codec.js'
 import { DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'

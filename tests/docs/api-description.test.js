@@ -9,7 +9,7 @@ import { storeBackend } from '../server/helpers/stores.js'
 import { startServer, OPERATOR_TOKEN } from '../server/helpers/server.js'
 import { ERROR_CODES } from '../../server/errors.js'
 import { WEBSOCKET_ONLY_CODES } from '../../server/routes/api-docs.js'
-import { clientMessageSchemas } from '../../server/realtime/message-schemas.js'
+import { clientMessageSchemas } from '../../protocol/client-messages.js'
 import { ENGINE_VERSIONS } from '../../engine/version.js'
 
 const CLIENT_DIR = fileURLToPath(new URL('../../client/', import.meta.url))

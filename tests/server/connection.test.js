@@ -1,7 +1,6 @@
 import { describe, it, expect } from 'vitest'
 import { EventEmitter } from 'node:events'
-import { Connection } from '../../server/realtime/connection.js'
-import { createMessageParser } from '../../server/realtime/message-schemas.js'
+import { Connection, createMessageParser } from '../../server/realtime/connection.js'
 import { createMetrics } from '../../server/metrics.js'
 import { TokenBucket } from '../../server/limits/token-bucket.js'
 import { seedsDelivery } from '../../server/realtime/delivery-seeds.js'
