@@ -1,5 +1,5 @@
 import { createBoard, simulateDrop, rtpStatistics, calibrationOf, isEngineVersion, ENGINE_VERSION, ENGINE_VERSIONS, MIN_ROWS, MAX_ROWS } from '/engine/index.js'
-import { apiRequest, ApiError, query } from './api.js'
+import { apiRequest, query } from './api.js'
 import { byId, el, fill, formatAmount, formatMultiplier, exactAmount, exactMultiplier, formatLocalTime, amountTitle, multiplierTitle, shortHex } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
@@ -49,15 +49,25 @@ function operatorGet (path) {
 
 // ---- sign-in ----------------------------------------------------------------
 
+/**
+ * Signs in through POST /api/audit/token-check, which answers 200 whatever
+ * the token: a refused request would be logged by the browser itself in the
+ * console, so the audit routes are called only once the token is known
+ * good. A wrong token still counts against this address on the server.
+ */
 async function signIn (token) {
   state.token = token
   state.signedIn = false
+  let verdict
   try {
-    await operatorGet('/api/audit/drops?limit=1')
+    verdict = await apiRequest('POST', '/api/audit/token-check', { token })
   } catch (error) {
+    verdict = { valid: false, message: `Cannot check the token: ${error.message}` }
+  }
+  if (!verdict.valid) {
     state.token = null
     sessionStorage.removeItem(TOKEN_KEY)
-    showAuth(false, error instanceof ApiError && (error.status === 401 || error.status === 403) ? 'That is not the operator token.' : `Cannot check the token: ${error.message}`)
+    showAuth(false, refusal(verdict))
     return false
   }
   sessionStorage.setItem(TOKEN_KEY, token)
@@ -65,6 +75,13 @@ async function signIn (token) {
   showAuth(true, 'Signed in.')
   showBusiestRoom()
   return true
+}
+
+/** What the page says of a refused token. @param {{ code?: string, message?: string, retryAfter?: number }} verdict */
+function refusal ({ code, message, retryAfter }) {
+  if (code === 'E_RATE_LIMITED') return `Too many wrong tokens from this address: try again in ${retryAfter} s.`
+  if (code === 'E_FORBIDDEN' || code === 'E_UNAUTHORIZED') return 'That is not the operator token.'
+  return message
 }
 
 /** Starts the statistics on the live room with the most balls in flight, if any. */

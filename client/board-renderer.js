@@ -1,4 +1,4 @@
-import { formatMultiplier } from './dom.js'
+import { LABEL_FORMS, labelText } from './bucket-labels.js'
 
 /**
  * Draws a board and its balls on a canvas, at the device's pixel ratio,
@@ -22,14 +22,19 @@ import { formatMultiplier } from './dom.js'
 const BUCKET_TOP = 4
 const BUCKET_BOTTOM = 22
 const VIEW_MARGIN_BOTTOM = 4
-/** Bucket labels are never drawn smaller than this (CSS px): below it they stand upright in deeper buckets. */
-export const MIN_LABEL_PX = 9
+/**
+ * Bucket labels are never drawn smaller than this (CSS px), from 320 to
+ * 1920 px wide screens: a label that would be is written shorter, or the
+ * labels stand upright in deeper buckets (resize, _labelLayout).
+ */
+export const MIN_LABEL_PX = 11
 const LABEL_PX = 13
 const UPRIGHT_LABEL_PX = 11
 /**
  * Bucket depth (units) when the labels stand upright: fixed, so the board's
  * shape on a phone is known ahead (style.css reserves it before any script
- * runs); deep enough for "0.201×" at MIN_LABEL_PX down to 320 px screens.
+ * runs); deep enough for the 16-row boards' labels without their × at
+ * MIN_LABEL_PX on a 320 px screen ("0.52", "1k").
  */
 export const UPRIGHT_BUCKET_BOTTOM = 72
 const FLASH_MS = 520
@@ -64,8 +69,15 @@ export class BoardRenderer {
     this.ratio = 1
     /** Bucket box depth below the bucket line, in drawing units. */
     this.bucketBottom = BUCKET_BOTTOM
-    /** @type {{ text: string, px: number, width: number, room: number, upright: boolean }[]} how each bucket label was drawn (CSS px) */
+    /**
+     * How each bucket label was drawn (CSS px; boxes from the canvas's top left): its text's
+     * size and length, the room for that length, its form (bucket-labels.js), the ink's box and its bucket's.
+     * @type {{ text: string, px: number, width: number, room: number, upright: boolean, form: string, box: Box, bucket: Box }[]}
+     */
     this.labels = []
+    /** The labels' form (bucket-labels.js), and whether they all fit at MIN_LABEL_PX or more. */
+    this.labelForm = 'full'
+    this.labelsFit = true
     /** @type {{ bucket: number, mine: boolean, start: number }[]} */
     this.flashes = []
     /** @type {{ peg: number, mine: boolean, start: number }[]} */
@@ -143,21 +155,16 @@ export class BoardRenderer {
     const available = Math.max(160, parent.clientWidth)
     const tallest = Math.max(160, this.maxHeight())
     const scaleFor = (bucketBottom) => Math.min(available / board.width, tallest / this._viewHeightFor(bucketBottom))
-    // Labels lying flat if they fit at a readable size; else upright, in buckets deep enough for the longest.
-    let bucketBottom = BUCKET_BOTTOM
-    let scale = scaleFor(bucketBottom)
-    const upright = !this._labelsFitFlat(scale)
-    if (upright) {
-      bucketBottom = UPRIGHT_BUCKET_BOTTOM
-      scale = scaleFor(bucketBottom)
-    }
+    const { upright, form, fit } = this._labelLayout(scaleFor)
+    const bucketBottom = upright ? UPRIGHT_BUCKET_BOTTOM : BUCKET_BOTTOM
+    const scale = scaleFor(bucketBottom)
     const viewHeight = this._viewHeightFor(bucketBottom)
     const cssWidth = Math.floor(board.width * scale)
     const cssHeight = Math.floor(viewHeight * scale)
     const ratio = Math.min(3, window.devicePixelRatio || 1)
     // The page reserves the board's space with this (CSS), so nothing moves when the canvas is sized.
     parent.style.setProperty('--board-aspect', String(board.width / viewHeight))
-    if (cssWidth === this._cssWidth && cssHeight === this._cssHeight && ratio === this.ratio && this.layer.width > 0 && this._layerBoard === board) return
+    if (cssWidth === this._cssWidth && cssHeight === this._cssHeight && ratio === this.ratio && this.layer.width > 0 && this._layerBoard === board && form === this.labelForm) return
     this._cssWidth = cssWidth
     this._cssHeight = cssHeight
     this._layerBoard = board
@@ -165,6 +172,8 @@ export class BoardRenderer {
     this.ratio = ratio
     this.bucketBottom = bucketBottom
     this.upright = upright
+    this.labelForm = form
+    this.labelsFit = fit
     this.canvas.style.width = `${cssWidth}px`
     this.canvas.style.height = `${cssHeight}px`
     this.canvas.width = Math.round(cssWidth * ratio)
@@ -177,26 +186,54 @@ export class BoardRenderer {
     this.onResize()
   }
 
-  /** Every label fits its bucket lying flat at MIN_LABEL_PX or more, at `scale` CSS px per board px. */
-  _labelsFitFlat (scale) {
-    const board = this.board
-    const u = unitOf(board)
-    const room = (board.bucketWidth - 6 * u) * scale
-    const ctx = this.layer.getContext('2d')
-    ctx.font = labelFont(MIN_LABEL_PX)
-    return board.multipliers.every((m) => ctx.measureText(formatMultiplier(m)).width <= room)
+  /**
+   * How the labels are laid out at the scales `scaleFor` gives: lying flat
+   * if every one fits its bucket at MIN_LABEL_PX or more, else upright in
+   * deeper buckets; in the plainest form that lets them (the sign dropped,
+   * thousands in k, before the text is turned). Upright in the tightest form,
+   * drawn smaller (fit false), only where nothing fits: a board far smaller
+   * than a 320 px screen's.
+   * @param {(bucketBottom: number) => number} scaleFor CSS px per board px
+   */
+  _labelLayout (scaleFor) {
+    for (const upright of [false, true]) {
+      const scale = scaleFor(upright ? UPRIGHT_BUCKET_BOTTOM : BUCKET_BOTTOM)
+      const form = LABEL_FORMS.find((f) => (upright || f !== 'tight') && this._labelsFit(scale, upright, f))
+      if (form) return { upright, form, fit: true }
+    }
+    return { upright: true, form: 'tight', fit: false }
   }
 
-  /** Upright labels: as large as the bucket's width allows (UPRIGHT_LABEL_PX at most), shrunk to the box's length, never below MIN_LABEL_PX. */
-  _uprightPx (scale, text) {
-    const board = this.board
-    const u = unitOf(board)
-    const across = (board.bucketWidth - 6 * u) * scale * 0.9
-    const along = (BUCKET_TOP + this.bucketBottom - 4) * u * scale
+  /** Every label in `form` fits its bucket at MIN_LABEL_PX, lying flat or upright, at `scale`. */
+  _labelsFit (scale, upright, form) {
+    const { along, across } = this._labelRoom(scale, upright)
+    if (across < MIN_LABEL_PX) return false
     const ctx = this.layer.getContext('2d')
-    ctx.font = labelFont(UPRIGHT_LABEL_PX)
-    const natural = ctx.measureText(text).width
-    return Math.max(MIN_LABEL_PX, Math.min(UPRIGHT_LABEL_PX, across, UPRIGHT_LABEL_PX * along / natural))
+    ctx.font = labelFont(MIN_LABEL_PX)
+    return this.board.multipliers.every((m) => ctx.measureText(labelText(m, form)).width <= along)
+  }
+
+  /**
+   * The room for a label at `scale` (CSS px): `along` its text, `across` it
+   * (for the font's size). Flat: the bucket's width less a margin, across
+   * the bucket's depth; upright: the deep bucket's depth less a margin,
+   * across 90% of the bucket's width.
+   */
+  _labelRoom (scale, upright) {
+    const u = unitOf(this.board)
+    const width = (this.board.bucketWidth - 6 * u) * scale
+    if (!upright) return { along: width, across: (BUCKET_TOP + BUCKET_BOTTOM - 4) * u * scale }
+    return { along: (BUCKET_TOP + UPRIGHT_BUCKET_BOTTOM - 4) * u * scale, across: width * 0.9 }
+  }
+
+  /** A label's size (CSS px): as large as its room allows, LABEL_PX (flat) or UPRIGHT_LABEL_PX at most; MIN_LABEL_PX or more when the layout fits. */
+  _labelPx (text, along, across) {
+    const largest = this.upright ? UPRIGHT_LABEL_PX : LABEL_PX
+    const ctx = this.layer.getContext('2d')
+    ctx.font = labelFont(largest)
+    const px = Math.min(largest, across, largest * along / ctx.measureText(text).width)
+    // Widths grow with the size all but exactly: the layout measured the fit at MIN_LABEL_PX.
+    return this.labelsFit ? Math.max(MIN_LABEL_PX, px) : px
   }
 
   /** Bounces bucket `bucket` and pops its multiplier. @param {number} bucket @param {boolean} mine @param {number} now */
@@ -510,34 +547,41 @@ export class BoardRenderer {
 
   /** Bucket `i`'s multiplier centred at (x, y), flat or upright as the layout says, `pop` times its size. */
   _label (ctx, i, x, y, s, pop = 1) {
-    const board = this.board
-    const u = unitOf(board)
-    const text = formatMultiplier(board.multipliers[i])
+    const text = labelText(this.board.multipliers[i], this.labelForm)
     const scale = this.scale
+    const { along, across } = this._labelRoom(scale, this.upright)
+    const px = this._labelPx(text, along, across)
     ctx.save()
     ctx.fillStyle = this._textColors[i] ?? '#000'
     ctx.textAlign = 'center'
     ctx.textBaseline = 'middle'
     ctx.translate(x, y)
-    let px
-    let room
-    if (this.upright) {
-      px = this._uprightPx(scale, text)
-      room = (BUCKET_TOP + this.bucketBottom - 4) * u * scale
-      ctx.rotate(-Math.PI / 2)
-    } else {
-      room = (board.bucketWidth - 6 * u) * scale
-      ctx.font = labelFont(LABEL_PX)
-      const natural = ctx.measureText(text).width
-      px = natural > room ? Math.max(MIN_LABEL_PX, LABEL_PX * room / natural) : LABEL_PX
-    }
+    if (this.upright) ctx.rotate(-Math.PI / 2)
     ctx.font = labelFont(px * pop / scale)
     ctx.fillText(text, 0, 0)
-    ctx.restore()
     if (pop === 1) {
       ctx.font = labelFont(px)
-      this.labels[i] = { text, px, width: ctx.measureText(text).width, room, upright: Boolean(this.upright), color: this._textColors[i], background: this._colors[i] }
+      const metrics = ctx.measureText(text)
+      this.labels[i] = { text, px, width: metrics.width, room: along, upright: Boolean(this.upright), form: this.labelForm, box: this._inkBox(metrics, x * scale, y * scale), bucket: this._bucketBox(i), color: this._textColors[i], background: this._colors[i] }
     }
+    ctx.restore()
+  }
+
+  /** Where a label's ink is (CSS px), centred at (cx, cy), turned a quarter left when upright. @returns {Box} */
+  _inkBox (metrics, cx, cy) {
+    const { actualBoundingBoxLeft: left, actualBoundingBoxRight: right, actualBoundingBoxAscent: ascent, actualBoundingBoxDescent: descent } = metrics
+    if (this.upright) return { left: cx - ascent, right: cx + descent, top: cy - right, bottom: cy + left }
+    return { left: cx - left, right: cx + right, top: cy - ascent, bottom: cy + descent }
+  }
+
+  /** Bucket `i`'s box as drawn (CSS px). @returns {Box} */
+  _bucketBox (i) {
+    const board = this.board
+    const u = unitOf(board)
+    const x = board.bucketLeftX + i * board.bucketWidth
+    const top = board.bucketLineY - BUCKET_TOP * u
+    const scale = this.scale
+    return { left: (x + 2 * u) * scale, right: (x + board.bucketWidth - 2 * u) * scale, top: top * scale, bottom: (top + (BUCKET_TOP + this.bucketBottom) * u) * scale }
   }
 
   _drawStatic () {
@@ -635,6 +679,8 @@ function relativeLuminance (rgb) {
   const [r, g, b] = rgb.map((c) => (c <= 0.03928 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4))
   return 0.2126 * r + 0.7152 * g + 0.0722 * b
 }
+
+/** @typedef {{ left: number, right: number, top: number, bottom: number }} Box */
 
 function labelFont (px) {
   return `700 ${px}px system-ui, sans-serif`

@@ -54,7 +54,7 @@ export class DropResults {
     if (here) {
       // Shown in the feed when its ball lands on screen (or now, if it is not on this board).
       if (local && !local.landingShown) local.settled = message
-      else this.addToFeed(message)
+      else this.addToFeed(message, local)
     }
     if (message.player !== account.playerId) return
     account.setBalance(message.balance)
@@ -74,8 +74,8 @@ export class DropResults {
   /** A ball reached its bucket on screen: its feed line, and the player's own result if it has settled. */
   landed (landing) {
     const drop = landing.drop
-    if (drop.settled) this.addToFeed(drop.settled)
-    else if (drop.result) this.addToFeed(drop.result) // seeds mode: another player's, as simulated here
+    if (drop.settled) this.addToFeed(drop.settled, drop)
+    else if (drop.result) this.addToFeed(drop.result, drop) // seeds mode: another player's, as simulated here
     const settled = this.settledUnseen.get(landing.dropId)
     if (settled) this.reveal(settled, !landing.stale)
   }
@@ -118,8 +118,14 @@ export class DropResults {
     if (counted) this.page.stats.add({ bet: settled.bet, payout: settled.payout, multiplier: settled.multiplier })
   }
 
-  addToFeed (settled) {
-    this.page.feed.add({ dropId: settled.dropId, player: settled.player, mine: settled.player === this.page.account.playerId, bet: settled.bet, multiplier: settled.multiplier, payout: settled.payout })
+  /**
+   * A feed line; with the drop as this page knows it, its announced seed
+   * too (another player's line is then checkable through its share link).
+   * @param {{ dropId: number, player: string, bet: number, multiplier: number, payout: number }} settled
+   * @param {{ dropSeed: string }} [drop]
+   */
+  addToFeed (settled, drop) {
+    this.page.feed.add({ dropId: settled.dropId, player: settled.player, mine: settled.player === this.page.account.playerId, bet: settled.bet, multiplier: settled.multiplier, payout: settled.payout, dropSeed: drop?.dropSeed ?? null })
   }
 
   /**

@@ -10,21 +10,23 @@ export const BIG_WIN = 10
  * @typedef {object} FeedEntry
  * @property {number} dropId @property {string} player @property {boolean} mine
  * @property {number} bet @property {number} multiplier @property {number} payout @property {boolean} big
+ * @property {string | null} dropSeed the seed its room announced (null: the page never had it, and cannot verify it)
  */
 
 /**
  * The room's drops as they land, newest first: who, bet, multiplier,
  * payout; big wins highlighted. Another player's row verifies that drop
- * in this browser when clicked (or Enter on it): its public facts are
- * fetched and checked with the page's engine (public-drop-check.js), the
- * verdict shown in a row under it.
+ * in this browser when clicked (or Enter on it): the drop is fetched
+ * through its share link, whose token comes from the seed the room
+ * announced, and checked with the page's engine (public-drop-check.js),
+ * the verdict shown in a row under it.
  */
 export class LiveFeed {
   /**
    * @param {HTMLTableSectionElement} body
-   * @param {{ check?: (dropId: number) => Promise<import('./public-drop-check.js').PublicDropCheck> }} [options]
+   * @param {{ check?: (drop: { dropId: number, dropSeed: string }) => Promise<import('./public-drop-check.js').PublicDropCheck> }} [options]
    */
-  constructor (body, { check = (dropId) => checkPublicDrop(dropId) } = {}) {
+  constructor (body, { check = (drop) => checkPublicDrop(drop) } = {}) {
     this.body = body
     this.check = check
     /** @type {FeedEntry[]} newest first */
@@ -52,17 +54,19 @@ export class LiveFeed {
   /**
    * Verifies another player's drop in this browser and shows the verdict
    * under its row. @param {number} dropId
-   * @returns {Promise<import('./public-drop-check.js').PublicDropCheck | null>} null: it could not be fetched (said in the row)
+   * @returns {Promise<import('./public-drop-check.js').PublicDropCheck | null>}
+   *   null: no such row, no announced seed to check it with, or it could not be fetched (said in the row)
    */
   async verify (dropId) {
     const row = this._row(dropId)
-    if (!row) return null
+    const entry = this.entries.find((e) => e.dropId === dropId)
+    if (!row || !entry?.dropSeed) return null
     const cell = el('td', { colspan: '4', text: `Verifying drop ${dropId} in this browser…` })
     const shown = el('tr', { class: 'check', role: 'status', dataset: { checkOf: String(dropId) } }, cell)
     this._checkRow(dropId)?.remove()
     row.after(shown)
     try {
-      const check = await this.check(dropId)
+      const check = await this.check({ dropId, dropSeed: entry.dropSeed })
       this.checks.set(dropId, check)
       shown.classList.add(check.ok ? 'verified' : 'failed')
       cell.textContent = describeCheck(check)
@@ -82,14 +86,16 @@ export class LiveFeed {
     return this.body.querySelector(`tr[data-check-of="${dropId}"]`)
   }
 
-  /** @param {Omit<FeedEntry, 'big'>} entry */
+  /** @param {Omit<FeedEntry, 'big' | 'dropSeed'> & { dropSeed?: string | null }} entry */
   add (entry) {
     if (this._ids.has(entry.dropId)) return
     this._ids.add(entry.dropId)
-    const item = { ...entry, big: entry.multiplier >= BIG_WIN }
+    const item = { ...entry, dropSeed: entry.dropSeed ?? null, big: entry.multiplier >= BIG_WIN }
     this.entries.unshift(item)
-    const others = item.mine ? {} : { tabindex: '0', title: 'Verify this drop in your browser' }
-    const row = el('tr', { class: [item.mine ? 'mine' : 'checkable', item.big ? 'big' : '', item.payout > item.bet ? 'up' : ''].join(' ').trim(), dataset: { dropId: String(item.dropId) }, ...others },
+    // Another player's drop is checkable with the seed its room announced (the token of its share link).
+    const checkable = !item.mine && item.dropSeed !== null
+    const others = checkable ? { tabindex: '0', title: 'Verify this drop in your browser' } : {}
+    const row = el('tr', { class: [item.mine ? 'mine' : checkable ? 'checkable' : '', item.big ? 'big' : '', item.payout > item.bet ? 'up' : ''].join(' ').trim(), dataset: { dropId: String(item.dropId) }, ...others },
       el('td', { class: 'who', title: item.player, text: item.mine ? 'you' : shortPlayer(item.player) }),
       el('td', { class: 'num', text: formatAmount(item.bet) }),
       el('td', { class: 'num', text: formatMultiplier(item.multiplier), title: multiplierTitle(item.multiplier) }),

@@ -14,9 +14,10 @@
  * SETTLE_MARGIN_MS. A message the server sends as something happens then
  * reaches the page before the page draws it happening, whatever the
  * link: the player's own ball starts at the top of the board (its
- * `dropped` comes after the drop's commit), and its `settled` (sent when
- * it lands, after the payout's commit) is there when the ball lands on
- * screen, so the result is revealed as it lands. Other players' drops,
+ * `dropped` comes after the drop's commit). Its `settled` rides in the
+ * room's next drop-events frame (up to 1/EVENT_HZ after the payout's
+ * commit), so the result is revealed as the ball lands or shortly after
+ * (drop-results.js waits for it). Other players' drops,
  * batched up to 1/EVENT_HZ, may still arrive after their start: they are
  * fast-forwarded. The render tick advances by the frame time, slewed
  * towards its target (tick-model.js advanceRenderTick): balls never jump

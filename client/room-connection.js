@@ -195,6 +195,8 @@ export class RoomConnection {
     const room = this.joinedRoom
     const check = applyDropEvents(frame, receivedAt, { view: this.view, clock: this.timeline, add: (event) => this.track({ ...event, room }) })
     if (check === null) { this.seeds.otherFrames++; return }
+    // Our own `settled` rides in the room's frame (the owner's section), after its events.
+    for (const message of check.own) this.handleMessage(message)
     if (check.ok) return
     const desync = { room, tick: check.tick, server: check.server, local: check.local, ballsInFlight: check.balls, engineVersion: this.view.board.engineVersion }
     this.seeds.desyncs.push(desync)

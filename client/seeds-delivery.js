@@ -34,8 +34,9 @@ export function pageDelivery (search) {
  * @param {import('./seeded-room.js').SeededRoom} room.view
  * @param {import('./room-clock.js').RoomClock} room.clock
  * @param {(event: import('/protocol/drop-events-codec.js').DropEvent) => void} room.add puts a drop the view does not have yet on the board
- * @returns {{ ok: boolean, tick: number, server: string, local: string, events: number } | null}
- *   the desync check, or null: not a drop-events frame (a seeds socket should get no other)
+ * @returns {{ ok: boolean, tick: number, server: string, local: string, events: number, own: object[] } | null}
+ *   the desync check and the page's own messages that rode in the frame (its `settled`),
+ *   or null: not a drop-events frame (a seeds socket should get no other)
  */
 export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
   const batch = decodeDropEvents(frame)
@@ -43,7 +44,7 @@ export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
   clock.observe(batch.tick, receivedAt)
   // The batch may name drops the page has (its own `dropped`, `joined.balls`).
   for (const event of batch.events) if (!view.has(event.dropId)) add(event)
-  return { ...view.check(batch.tick, batch.hash), events: batch.events.length }
+  return { ...view.check(batch.tick, batch.hash), events: batch.events.length, own: batch.own }
 }
 
 /**

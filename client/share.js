@@ -1,10 +1,10 @@
-import { createBoard, simulateDrop, isEngineVersion, ENGINE_VERSIONS, sha256Hex } from '/engine/index.js'
+import { createBoard, simulateDrop, isEngineVersion, ENGINE_VERSIONS } from '/engine/index.js'
 import { apiRequest } from './api.js'
 import { byId, el, fill, exactAmount, exactMultiplier, formatAmount, formatMultiplier, formatLocalTime } from './dom.js'
 import { BoardRenderer } from './board-renderer.js'
 import { ReplayPlayer } from './replay-player.js'
 import { checkFairness } from './fair-check.js'
-import { shareLinkPath } from './share-link.js'
+import { shareLinkPath, sharedDropPath, shareToken } from './share-link.js'
 
 /**
  * A shared drop (/share/:id/:token), for anyone with the link: fetched
@@ -31,7 +31,7 @@ async function main () {
   if (!match) return fail('This is not a share link.')
   let record
   try {
-    record = await apiRequest('GET', `/api/share/${match[1]}/${match[2]}`)
+    record = await apiRequest('GET', sharedDropPath(match[1], match[2]))
   } catch (error) {
     return fail(error.status === 404 ? 'No drop is shared with this link.' : `Could not load the drop: ${error.message}`)
   }
@@ -47,7 +47,7 @@ async function main () {
   const outcome = simulateDrop(board, record.dropSeed, { trajectory: true })
   const replayed = record.status === 'settled' && outcome.bucket === record.bucket && outcome.ticks === record.ticks && outcome.stateHash === record.stateHash
   // The link itself is the drop seed's: a page that computes another token was handed another drop.
-  const linkOk = shareLinkPath(record.id, await sha256Hex(`share:${record.dropSeed}`)) === location.pathname
+  const linkOk = shareLinkPath(record.id, await shareToken(record.dropSeed)) === location.pathname
   const chain = record.serverSeed ? await checkFairness(record, record) : null
   state.verifiable = Boolean(record.serverSeed)
   state.verified = chain ? chain.ok && replayed && linkOk : null

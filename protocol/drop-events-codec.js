@@ -10,7 +10,9 @@ import { StateHasher } from '../engine/state-hasher.js'
  * page simulates every ball itself from its drop seed (the engine gives the
  * same bits everywhere). Besides its own JSON replies it gets one kind of
  * binary frame, the drop-events frame, built once per room and sent as the
- * same bytes to every seeds socket in it:
+ * same bytes to every seeds socket in it (a socket's own messages appended
+ * to its copy: the owner's section below; a socket whose own drops are all
+ * a frame holds does not get it, unless with its owner's section):
  *
  * - at most every EVENT_EVERY ticks (joined.eventEvery = 60 / EVENT_HZ), with
  *   the drops announced in the room since the previous frame, oldest first;
@@ -28,6 +30,11 @@ import { StateHasher } from '../engine/state-hasher.js'
  *   9       4      hash word 2, uint32 } digits hex8(word 1) + hex8(word 2)
  *   13      2      N, uint16: number of events
  *   15      64·N   the events, oldest first
+ *   15+64·N rest   the receiver's own messages (optional, this socket's copy only): ASCII text
+ *                  of a JSON array of the server's JSON messages for this player, oldest first
+ *                  (today: its `settled` messages in this room, each with its balance), to be
+ *                  handled after the events as if each had come on its own. Absent (the frame
+ *                  ends after the events) when there are none.
  *
  * One event (64 bytes), another player's drop as `dropped` announces it:
  *
@@ -46,8 +53,9 @@ import { StateHasher } from '../engine/state-hasher.js'
  * steps of a DropSimulator into which it was added alone: balls do not
  * collide, so a drop's path depends on its seed and the board only. The
  * full facts for verifying it (server seed hash, client seed, nonce, and
- * once landed the bucket, payout and state hash) are public at
- * GET /api/public/drops/:dropId.
+ * once landed the bucket, payout and state hash) are served to whoever has
+ * its seed, at its share link GET /api/share/:dropId/:token (the token is
+ * the seed's, protocol/share-token.js).
  *
  * Flight hash: the balls in flight at `tick` that the room has announced
  * (every one was named in `joined.balls`, a `dropped` reply or an event
@@ -88,6 +96,7 @@ const HEX16 = /^[0-9a-f]{16}$/
  * @typedef {object} DropEventsFrame
  * @property {number} tick @property {string} hash 16 hex digits (FlightHasher)
  * @property {DropEvent[]} events
+ * @property {object[]} own this socket's own messages (the owner's section), oldest first; [] when none
  */
 
 /**
@@ -127,8 +136,28 @@ export function encodeDropEvents (tick, hash, drops) {
 }
 
 /**
+ * A room's frame with one socket's own messages after its events (the
+ * owner's section of the header comment): a copy, the room's bytes first.
+ * Non-ASCII characters are written as \u escapes, so every decoder can read
+ * the section byte by byte.
+ * @param {Uint8Array} frame from encodeDropEvents()
+ * @param {string[]} messages JSON texts of this socket's messages, oldest first
+ * @returns {Uint8Array}
+ */
+export function withOwnMessages (frame, messages) {
+  const text = `[${messages.join(',')}]`.replace(NON_ASCII, (c) => `\\u${c.charCodeAt(0).toString(16).padStart(4, '0')}`)
+  const bytes = new Uint8Array(frame.length + text.length)
+  bytes.set(frame)
+  for (let i = 0, at = frame.length; i < text.length; i++, at++) bytes[at] = text.charCodeAt(i)
+  return bytes
+}
+
+const NON_ASCII = /[^\x00-\x7f]/g
+
+/**
  * Decodes a drop-events frame; null for a frame of another kind, a
- * truncated one or one naming an engine version this module does not know.
+ * truncated one, one naming an engine version this module does not know,
+ * or one whose own messages are not a JSON array.
  * @param {Uint8Array | ArrayBuffer} frame
  * @returns {DropEventsFrame | null}
  */
@@ -153,7 +182,22 @@ export function decodeDropEvents (frame) {
       dropSeed: readHex(bytes, at + 32, 32)
     }
   }
-  return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events }
+  const own = ownMessages(bytes, DROP_EVENTS_HEADER_BYTES + count * DROP_EVENT_BYTES)
+  if (own === null) return null
+  return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events, own }
+}
+
+/** The owner's section from `at` to the end: [] when there is none, null when it is not a JSON array. */
+function ownMessages (bytes, at) {
+  if (at === bytes.byteLength) return []
+  let text = ''
+  for (let i = at; i < bytes.byteLength; i += 4096) text += String.fromCharCode.apply(null, bytes.subarray(i, Math.min(i + 4096, bytes.byteLength)))
+  try {
+    const messages = JSON.parse(text)
+    return Array.isArray(messages) ? messages : null
+  } catch {
+    return null
+  }
 }
 
 /**

@@ -21,6 +21,7 @@ import roomRoutes from './routes/rooms.js'
 import clientReportRoutes from './routes/client-reports.js'
 import engineSpecRoutes from './routes/engine-spec.js'
 import auditRoutes from './routes/audit.js'
+import auditTokenCheckRoute from './routes/audit-token-check.js'
 import metricsRoutes from './routes/metrics.js'
 import healthRoutes from './routes/health.js'
 import realtimeRoutes from './routes/realtime.js'
@@ -197,6 +198,7 @@ async function registerRoutes (app, { config, store, coordination, metrics, aren
   if (config.monitoring.onPublicPort) await registerMonitoring(app, config, { metrics, arena })
   await app.register(realtimeRoutes, { arena, store, accounts, config, metrics, authGuard, workerShare: addressLimits.workerShare })
   await app.register(auditRoutes, { store, rooms: arena.rooms, operatorToken: config.operatorToken, authGuard })
+  await app.register(auditTokenCheckRoute, { operatorToken: config.operatorToken, authGuard })
   await app.register(clientRoutes, { clientDir: config.clientDir })
   await app.register(clientAssetRoutes, { clientDir: config.clientDir })
 }

@@ -28,25 +28,46 @@ export async function playerIdForToken (store, token) {
 }
 
 /**
- * onRequest hook for the operator API (before any schema check). The tokens are compared as SHA-256
- * digests with timingSafeEqual: equal lengths whatever the input, and no
- * early exit that would leak how much of a guess was right.
- * Missing token → 401 E_UNAUTHORIZED; wrong token → 403 E_FORBIDDEN, counted
- * against the address, which past its budget gets 429 E_RATE_LIMITED for
- * a while, whatever token it sends (limits/auth-guard.js).
+ * The operator token check of a request, as a verdict rather than an
+ * error: `{ valid: true }`, or `{ valid: false, code, message }` with the
+ * code a refusing route answers (E_UNAUTHORIZED: no token; E_FORBIDDEN: a
+ * wrong one, counted against the address; E_RATE_LIMITED, with
+ * `retryAfter` in seconds: the address is blocked, and the token is then
+ * not looked at, limits/auth-guard.js). The tokens are compared as
+ * SHA-256 digests with timingSafeEqual: equal lengths whatever the input,
+ * and no early exit that would leak how much of a guess was right.
  * @param {string} operatorToken @param {import('./limits/auth-guard.js').AuthGuard} guard
+ * @returns {(request: import('fastify').FastifyRequest) => Promise<{ valid: boolean, code?: string, message?: string, retryAfter?: number }>}
  */
-export function requireOperator (operatorToken, guard) {
+export function operatorTokenCheck (operatorToken, guard) {
   const expected = createHash('sha256').update(operatorToken).digest()
-  return async function operatorOnly (request, reply) {
-    await guard.admit('operator', request.ip, reply)
+  return async function checkOperator (request) {
+    const block = await guard.blocked('operator', request.ip)
+    if (block) return { valid: false, code: 'E_RATE_LIMITED', ...block }
     const token = bearerToken(request)
-    if (token === null) throw gameError('E_UNAUTHORIZED', 'operator token required: Authorization: Bearer OPERATOR_TOKEN')
+    if (token === null) return { valid: false, code: 'E_UNAUTHORIZED', message: 'operator token required: Authorization: Bearer OPERATOR_TOKEN' }
     const given = createHash('sha256').update(token).digest()
     if (!timingSafeEqual(given, expected)) {
       await guard.failed('operator', request.ip)
-      throw gameError('E_FORBIDDEN', 'wrong operator token')
+      return { valid: false, code: 'E_FORBIDDEN', message: 'wrong operator token' }
     }
+    return { valid: true }
+  }
+}
+
+/**
+ * onRequest hook for the operator API (before any schema check): the
+ * check above, a refusal thrown as its error (401, 403, or 429 with
+ * Retry-After).
+ * @param {string} operatorToken @param {import('./limits/auth-guard.js').AuthGuard} guard
+ */
+export function requireOperator (operatorToken, guard) {
+  const check = operatorTokenCheck(operatorToken, guard)
+  return async function operatorOnly (request, reply) {
+    const verdict = await check(request)
+    if (verdict.valid) return
+    if (verdict.retryAfter) reply.header('retry-after', String(verdict.retryAfter))
+    throw gameError(verdict.code, verdict.message)
   }
 }
 

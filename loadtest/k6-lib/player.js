@@ -132,7 +132,7 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       frames++
       frameBytes += data.byteLength
       if (seeds) {
-        dropEventCount += countDropEvents(data)
+        dropEventCount += countDropEvents(data, (messages) => { for (const message of messages) handle(message, event.timestamp) })
         return
       }
       // Time one pair of consecutive frames in every `every`.
@@ -154,6 +154,10 @@ function connect (config, room, token, leaveAt, wsUrl = config.wsUrl, redirects 
       metrics.errors.add(1, { code: 'X_BAD_JSON' })
       return
     }
+    handle(message, at)
+  }
+
+  function handle (message, at) {
     switch (message.type) {
       case 'welcome':
         playerId = message.playerId
@@ -386,9 +390,11 @@ function snapshotSampler () {
 /**
  * Seeds mode: the events in a drop-events frame (protocol/drop-events-codec.js:
  * kind 3, N at offset 13, 15 + 64·N bytes), counted, not decoded (k6's CPU
- * is shared with the server). Anything else is an error (and counts 0).
+ * is shared with the server); what follows them is this player's own
+ * messages (ASCII JSON array: its `settled`), handed to `own`. Anything else
+ * is an error (and counts 0).
  */
-function countDropEvents (buffer) {
+function countDropEvents (buffer, own) {
   const bytes = new Uint8Array(buffer)
   if (bytes[0] !== 3) {
     metrics.errors.add(1, { code: 'X_UNEXPECTED_SNAPSHOT' })
@@ -396,12 +402,28 @@ function countDropEvents (buffer) {
     return 0
   }
   const count = bytes.length >= 15 ? bytes[13] | (bytes[14] << 8) : -1
-  if (count < 0 || bytes.length !== 15 + 64 * count) {
+  const end = 15 + 64 * count
+  const messages = count < 0 || bytes.length < end ? null : ownMessages(bytes, end)
+  if (messages === null) {
     metrics.errors.add(1, { code: 'X_BAD_FRAME' })
     logOnce(`drop-events frame of ${bytes.length} bytes`)
     return 0
   }
+  if (messages.length > 0) own(messages)
   return count
+}
+
+/** The owner's section of a drop-events frame from `at`: [] if none, null if not a JSON array. */
+function ownMessages (bytes, at) {
+  if (at === bytes.length) return []
+  let text = ''
+  for (let i = at; i < bytes.length; i++) text += String.fromCharCode(bytes[i])
+  try {
+    const messages = JSON.parse(text)
+    return Array.isArray(messages) ? messages : null
+  } catch {
+    return null
+  }
 }
 
 /** What the socket received, by kind, and per second of its life. */

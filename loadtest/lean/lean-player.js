@@ -253,6 +253,12 @@ export class LeanPlayer {
     } catch {
       return stats.error('X_BAD_JSON', text.slice(0, 80))
     }
+    this.receiveMessage(message, at)
+  }
+
+  /** A server message, from a text frame or a drop-events frame's owner's section. @param {any} message @param {number} at */
+  receiveMessage (message, at) {
+    const stats = this.stats
     switch (message.type) {
       case 'welcome':
         this.playerId = message.playerId
@@ -321,6 +327,8 @@ export class LeanPlayer {
       stats.eventsSeen++
       this.sightings.seen(event.dropId, event.player, at)
     }
+    // The owner's section: this player's own `settled`, as if each had come on its own.
+    for (const message of frame.own) this.receiveMessage(message, at)
   }
 
   /** Sends one drop (none before `joined` or once leaving). @returns {boolean} sent */

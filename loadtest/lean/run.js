@@ -118,8 +118,8 @@ export const DROP_COST_PARTS = [
   { name: 'room feeds (events and snapshots: encode, queue)', match: (f) => /^server\/realtime\/delivery-/.test(f.file) || (f.file === 'server/rooms/room.js' && f.functionName === 'deliver') || /^protocol\/(snapshot|drop-events)-codec/.test(f.file) },
   { name: 'socket writes (every frame, at the end of the turn)', match: (f) => f.file === 'server/realtime/write-batcher.js' || f.file.endsWith('/ws/lib/sender.js') },
   { name: 'physics (room steps)', match: (f) => f.file.startsWith('engine/') || (f.file === 'server/rooms/room.js' && f.functionName === 'step') },
-  { name: 'ledger commit (group commit, hand-over to the store, apply)', match: (f) => /^server\/(ledger\/group-commit|store\/|game\/ledger-batch|game\/money)/.test(f.file) || f.functionName === '_committed' },
-  { name: 'receiving and validation (ws parser, JSON, schema, checks)', match: (f) => f.file.endsWith('/ws/lib/receiver.js') || f.file === 'server/realtime/message-schemas.js' || f.file === 'server/realtime/connection.js' || f.functionName === 'accept' || f.file.includes('/ajv/') },
+  { name: 'ledger commit (group commit, hand-over to the store, apply)', match: (f) => /^server\/(store\/|game\/money)/.test(f.file) || (f.file === 'server/game/drop.js' && f.functionName !== 'createDrop') || f.functionName === '_committed' },
+  { name: 'receiving and validation (ws parser, JSON, schema, checks)', match: (f) => f.file.endsWith('/ws/lib/receiver.js') || f.file === 'server/realtime/connection.js' || f.functionName === 'accept' || f.file.includes('/ajv/') },
   { name: 'metrics (prom-client)', match: (f) => f.file.includes('/prom-client/') },
   { name: 'garbage collection', match: (f) => f.functionName === '(garbage collector)' }
 ]

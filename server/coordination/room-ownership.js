@@ -27,7 +27,7 @@
  * @typedef {object} OwnershipServices
  * @property {{ get: (roomId: string) => ({ summary: () => object } | undefined), values: () => Iterable<{ summary: () => object }> }} rooms
  *   the rooms running here (rooms/room-registry.js)
- * @property {{ run: <T>(work: () => Promise<T>) => Promise<T> }} ledger the group commit's queue (game/group-commit.js)
+ * @property {{ run: <T>(work: () => Promise<T>) => Promise<T> }} ledger the group commit's queue (game/drop.js)
  * @property {(roomId: string) => void} onRoomLost this process may no longer run the room (its lease went elsewhere)
  */
 export {}

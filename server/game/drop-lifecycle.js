@@ -1,8 +1,7 @@
-import { GroupCommit } from './group-commit.js'
 import { deriveDropSeed, isValidClientSeed } from '../fairness/seeds.js'
 import { gameError } from '../errors.js'
 import { betCost, payoutFor, toCredits, RunningBalances } from './money.js'
-import { createDrop } from './drop.js'
+import { createDrop, GroupCommit } from './drop.js'
 import { droppedMessage, settledMessage } from '../../protocol/server-messages.js'
 
 /**
@@ -19,7 +18,7 @@ export const SETTLE_RETRY_MAX_MS = 2000
  *
  *   accept   checks the bet, takes a nonce and an id (sequences), derives
  *            the drop seed, reserves the bet, releases the ball
- *   record   the tick's group commit writes it (ledger-batch.js)
+ *   record   the tick's group commit writes its row (drop.js)
  *   apply    once committed: the reservation becomes a debit, the balance
  *            shown is the ledger's (money.js), the ball becomes visible
  *   announce `dropped` to everyone (the owner's copy with the balance)
@@ -128,7 +127,7 @@ export class DropLifecycle {
     return waiting
   }
 
-  /** A drop whose own batch failed is never settled (group-commit.js drops its settlement). */
+  /** A drop whose own batch failed is never settled (the group commit drops its settlement). */
   _forgetVoid () {
     for (const settlement of this.settling) if (settlement.drop.void) this.settling.delete(settlement)
   }
@@ -170,7 +169,7 @@ export class DropLifecycle {
    * `outcome` says which drops the ledger refused and gives the committed
    * balances, which replace the cached ones; each message shows the balance
    * right after its own change, so a player's messages add up one by one.
-   * @param {import('./group-commit.js').PendingBatch} batch
+   * @param {import('./drop.js').PendingBatch} batch
    * @param {import('./money.js').CommitOutcome} outcome
    */
   _committed ({ drops, settlements }, outcome) {
@@ -278,10 +277,11 @@ export class DropLifecycle {
   }
 
   /**
-   * Sends a drop event to all of the owner's connections at once (only the
-   * owner's copy carries the balance, and only the connection that asked
-   * gets its `ref` back): in every delivery mode, this is how a player's
-   * balance changes reach it. The room's feeds tell everyone else, each in
+   * Sends a drop event to all of the owner's connections (only the owner's
+   * copy carries the balance, and only the connection that asked gets its
+   * `ref` back): in every delivery mode, this is how a player's balance
+   * changes reach it; `dropped` at once, `settled` when the socket's feed in
+   * the drop's room says (Connection.sendSettled). The room's feeds tell everyone else, each in
    * its own way and pace (server/realtime/deliveries.js); the owner's
    * connections in the room get that copy too, and skip their own events.
    * @param {number} balance the owner's, in credits
@@ -294,8 +294,10 @@ export class DropLifecycle {
     const owner = `${text.slice(0, -1)},"balance":${JSON.stringify(balance)}}`
     const type = message.type
     for (const client of drop.account.connections) {
-      if (client === drop.origin && drop.ref !== undefined) client.sendEvent(`${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}`, type)
-      else client.sendEvent(owner, type)
+      const copy = client === drop.origin && drop.ref !== undefined ? `${owner.slice(0, -1)},"ref":${JSON.stringify(drop.ref)}}` : owner
+      // `settled`: the socket's feed in the drop's room decides when (it may ride in the room's next frame).
+      if (type === 'settled') client.sendSettled(copy, drop.room)
+      else client.sendEvent(copy, type)
     }
     return text
   }

@@ -3,7 +3,7 @@ import { MILLI_PER_CREDIT, PAYOUT_RULE, payoutMilli, toCredits, toMilli } from '
 /**
  * The money rules, in one place: what a drop costs, what a landing pays,
  * and how a batch of them changes each player's balance. The ledger batch
- * (ledger-batch.js) and the balances the players are shown (drop-lifecycle.js)
+ * (drop.js) and the balances the players are shown (drop-lifecycle.js)
  * both come from here, so the database and the messages cannot disagree.
  *
  * Units: balances, reservations and payouts are integer milli-credits, in

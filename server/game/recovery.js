@@ -1,7 +1,7 @@
 import { isEngineVersion, simulateDrop } from '../../engine/index.js'
 import { parseRoomId, roomIdOf } from '../../protocol/room-id.js'
 import { boardOf } from '../rooms/boards.js'
-import { toLedgerBatch } from './ledger-batch.js'
+import { toLedgerBatch } from './drop.js'
 import { payoutFor } from './money.js'
 
 /**

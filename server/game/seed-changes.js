@@ -1,4 +1,4 @@
-import { clientSeedBatch } from './ledger-batch.js'
+import { clientSeedBatch } from './drop.js'
 import { newServerSeed } from '../fairness/seeds.js'
 
 /**
@@ -24,7 +24,7 @@ import { newServerSeed } from '../fairness/seeds.js'
 export class SeedChanges {
   /**
    * @param {object} services
-   * @param {{ run: <T>(work: () => Promise<T>) => Promise<T> }} services.ledger the group commit's queue (group-commit.js)
+   * @param {{ run: <T>(work: () => Promise<T>) => Promise<T> }} services.ledger the group commit's queue (drop.js)
    * @param {import('../store/ledger-store.js').LedgerStore} services.store
    * @param {import('../coordination/account-feed.js').AccountFeed} services.feed
    */

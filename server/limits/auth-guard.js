@@ -23,12 +23,26 @@ export class AuthGuard {
    * @param {'operator' | 'player'} kind @param {string} ip @param {import('fastify').FastifyReply} [reply]
    */
   async admit (kind, ip, reply) {
+    const block = await this.blocked(kind, ip)
+    if (!block) return
+    reply?.header('retry-after', String(block.retryAfter))
+    throw gameError('E_RATE_LIMITED', block.message)
+  }
+
+  /**
+   * The address's block, or null: whole seconds left of it and what the
+   * request is told; a blocked request is counted as throttled. For a
+   * caller that answers the block itself (the operator token check,
+   * routes/audit-token-check.js).
+   * @param {'operator' | 'player'} kind @param {string} ip
+   * @returns {Promise<{ retryAfter: number, message: string } | null>}
+   */
+  async blocked (kind, ip) {
     const waitMs = await this.limiter.blockedFor(`${kind}:${ip}`)
-    if (waitMs <= 0) return
+    if (waitMs <= 0) return null
     this.metrics.authThrottled.labels(kind).inc()
-    const seconds = Math.ceil(waitMs / 1000)
-    reply?.header('retry-after', String(seconds))
-    throw gameError('E_RATE_LIMITED', `too many wrong ${kind} tokens from this address; retry in ${seconds} s`)
+    const retryAfter = Math.ceil(waitMs / 1000)
+    return { retryAfter, message: `too many wrong ${kind} tokens from this address; retry in ${retryAfter} s` }
   }
 
   /** A wrong token from `ip`. @param {'operator' | 'player'} kind @param {string} ip */
@@ -38,3 +52,4 @@ export class AuthGuard {
     if (blockMs > 0) this.log.warn({ kind, remoteAddress: ip, blockMs }, `too many wrong ${kind} tokens; address blocked for ${Math.ceil(blockMs / 1000)} s`)
   }
 }
+

@@ -1,4 +1,4 @@
-import { clientMessageSchemas } from './message-schemas.js'
+import { clientMessageSchemas } from '../../protocol/client-messages.js'
 import { ERROR_CODES } from '../errors.js'
 import { SNAPSHOT_KIND, ROOM_FRAME_KIND } from '../../protocol/snapshot-codec.js'
 import { DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
@@ -112,7 +112,7 @@ export const SERVER_MESSAGE_SCHEMAS = Object.freeze({
     payload: object(droppedFields, Object.keys(droppedFields), ownerExtras)
   },
   settled: {
-    summary: 'A drop landed and its payout was credited',
+    summary: 'A drop landed and its payout was credited: to the owner at once (seeds-mode sockets in the drop\'s room: in the owner\'s section of the room\'s next drop-events frame), to snapshots-mode sockets in the room with its next snapshot',
     payload: object(settledFields, Object.keys(settledFields), ownerExtras)
   },
   events: {
@@ -156,7 +156,7 @@ const BINARY_MESSAGES = {
   dropEvents: {
     kind: DROP_EVENTS_KIND,
     summary: 'Drop-events frame (seeds delivery): other players\' drops and a desync check, instead of positions',
-    description: 'Binary, little-endian: kind = 3 (uint8), room tick (uint32), flight hash (two uint32 words), N (uint16), then N events of 64 bytes: drop id (uint64), bet (uint64), start tick (uint32), slot (uint16), engine version index (uint8), flags (uint8), player id (8 bytes), drop seed (32 bytes). At most every `eventEvery` ticks with the drops announced since the previous frame; with no events, at most every `checkEvery` ticks while balls are in flight. The flight hash is defined in protocol/drop-events-codec.js, which decodes the frame (`decodeDropEvents`).'
+    description: 'Binary, little-endian: kind = 3 (uint8), room tick (uint32), flight hash (two uint32 words), N (uint16), then N events of 64 bytes: drop id (uint64), bet (uint64), start tick (uint32), slot (uint16), engine version index (uint8), flags (uint8), player id (8 bytes), drop seed (32 bytes); then, in the owner\'s copy only, the owner\'s section: the rest of the frame is an ASCII JSON array of this player\'s own messages (its `settled` in this room, with `balance`), handled after the events as if each had come on its own. At most every `eventEvery` ticks with the drops announced since the previous frame; with no events, at most every `checkEvery` ticks while balls are in flight. The flight hash is defined in protocol/drop-events-codec.js, which decodes the frame (`decodeDropEvents`).'
   },
   roomFrame: {
     kind: ROOM_FRAME_KIND,

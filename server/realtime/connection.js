@@ -1,9 +1,11 @@
-import { GameError, ERROR_CODES } from '../errors.js'
+import Ajv from 'ajv'
+import { GameError, ERROR_CODES, gameError } from '../errors.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
 import { toCredits } from '../game/money.js'
 import { holdWritesUntilEndOfTurn } from './write-batcher.js'
 import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
 import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
+import { clientMessageSchemas } from '../../protocol/client-messages.js'
 import { discardUnread } from './discard-unread.js'
 import { NO_ADDRESS_LIMITS } from './ip-limits.js'
 
@@ -15,8 +17,10 @@ export const DROP_GRACE_MS = 1000
 const OVER_RATE_CLOSE = 1008
 
 /**
- * One authenticated WebSocket: turns client frames into arena calls and
- * sends events and snapshots back, minding backpressure. Events (joined,
+ * One authenticated WebSocket: turns client frames into arena calls (each
+ * parsed and checked against the client message schemas first:
+ * createMessageParser, below) and sends events and snapshots back, minding
+ * backpressure. Events (joined,
  * dropped, settled, errors, …) are always sent; snapshots are skipped while
  * the socket has more than `softLimit` bytes queued. A socket over
  * `hardLimit` is closed (1013, E_SLOW_CONSUMER): nothing is buffered
@@ -30,7 +34,7 @@ export class Connection {
    * @param {object} options
    * @param {import('ws').WebSocket} options.socket
    * @param {import('../arena.js').Arena} options.arena
-   * @param {(text: string) => any} options.parseMessage
+   * @param {(text: string) => any} options.parseMessage createMessageParser's function, compiled once per server
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
    * @param {number} options.softLimit @param {number} options.hardLimit bytes
@@ -56,6 +60,8 @@ export class Connection {
     /** This client IP's shared drop, join and frame buckets (server/realtime/ip-limits.js), set by the route once it counts the socket. */
     this.ipLimits = NO_ADDRESS_LIMITS
     this._early = []
+    /** JSON texts held for the room's next frame (RoomFeed.ownerSettled), oldest first. @type {string[]} */
+    this._deferred = []
     socket.on('message', (data, isBinary) => {
       if (this.account) this._receive(data, isBinary)
       else if (this._early.push([data, isBinary]) > MAX_EARLY_MESSAGES) this.drop(1008, 'too many messages before authentication')
@@ -175,10 +181,48 @@ export class Connection {
   sendEvent (text, type) {
     if (this.closed) return
     if (this.socket.bufferedAmount > this.hardLimit) return this._tooSlow()
+    // Held messages go first, so the client sees every message, and every balance, in order.
+    if (this._deferred.length > 0) this.sendDeferred()
     holdWritesUntilEndOfTurn(this.socket)
     this.socket.send(text)
     this.metrics.messagesOut.labels(type).inc()
     this.metrics.bytesOut.inc(Buffer.byteLength(text))
+  }
+
+  /**
+   * The owner's `settled` of a drop in `room`: its feed there decides when
+   * it goes (at once, or in the room's next frame: deliveries.js); from any
+   * other room, or none, at once.
+   * @param {string} text @param {import('../rooms/room.js').Room} room
+   */
+  sendSettled (text, room) {
+    if (this.feed !== null && this.room === room) this.feed.ownerSettled(this, text)
+    else this.sendEvent(text, 'settled')
+  }
+
+  /** Holds a `settled` for the room's next frame (the seeds delivery). @param {string} text */
+  defer (text) {
+    if (!this.closed) this._deferred.push(text)
+  }
+
+  /** The held messages for a frame, oldest first, counted as sent; null when none. @returns {string[] | null} */
+  takeDeferred () {
+    if (this._deferred.length === 0) return null
+    const texts = this._deferred
+    this._deferred = []
+    this.metrics.messagesOut.labels('settled').inc(texts.length)
+    return texts
+  }
+
+  /** Sends the held messages on their own (leaving the room, closing, or before any other message). */
+  sendDeferred () {
+    const texts = this.takeDeferred()
+    if (texts === null || this.closed) return
+    holdWritesUntilEndOfTurn(this.socket)
+    for (const text of texts) {
+      this.socket.send(text)
+      this.metrics.bytesOut.inc(Buffer.byteLength(text))
+    }
   }
 
   /**
@@ -267,6 +311,7 @@ export class Connection {
   /** @param {number} code @param {string} reason */
   close (code, reason) {
     if (this.closed) return
+    this.sendDeferred()
     this._closed()
     this.socket.close(code, reason)
   }
@@ -304,4 +349,46 @@ export class Connection {
 function withRef (message, ref) {
   if (ref !== undefined) message.ref = ref
   return message
+}
+
+// ---- reading a client frame ---------------------------------------------------
+
+/** Which error code a schema failure on a given field is reported as. */
+const FIELD_CODES = { '/bet': 'E_BAD_BET', '/clientSeed': 'E_BAD_SEED', '/room': 'E_UNKNOWN_ROOM', '/delivery': 'E_BAD_DELIVERY' }
+
+/**
+ * Compiles the schemas once; the returned function parses a text frame and
+ * returns the message, or throws a GameError naming what is wrong.
+ * @param {{ minBet: number, maxBet: number }} limits
+ * @returns {(text: string) => { type: string, ref?: any, [key: string]: any }}
+ */
+export function createMessageParser (limits) {
+  const ajv = new Ajv({ allErrors: false, strict: true })
+  const validators = new Map(Object.entries(clientMessageSchemas(limits)).map(([type, schema]) => [type, ajv.compile(schema)]))
+  return function parseClientMessage (text) {
+    let message
+    try {
+      message = JSON.parse(text)
+    } catch {
+      throw gameError('E_BAD_MESSAGE', 'message is not valid JSON')
+    }
+    if (message === null || typeof message !== 'object' || Array.isArray(message) || typeof message.type !== 'string') {
+      throw gameError('E_BAD_MESSAGE', 'message must be a JSON object with a string "type"')
+    }
+    const validate = validators.get(message.type)
+    if (!validate) throw gameError('E_UNKNOWN_TYPE', `unknown message type ${JSON.stringify(message.type.slice(0, 32))}; known: ${[...validators.keys()].join(', ')}`, { ref: echoableRef(message.ref) })
+    if (!validate(message)) {
+      const [error] = validate.errors
+      const code = FIELD_CODES[error.instancePath] ?? 'E_BAD_MESSAGE'
+      const where = error.instancePath === '' ? message.type : `${message.type}${error.instancePath.replaceAll('/', '.')}`
+      throw gameError(code, `${where} ${error.message}`, { ref: echoableRef(message.ref) })
+    }
+    return message
+  }
+}
+
+/** A ref worth echoing back even when the rest of the message is wrong. */
+function echoableRef (value) {
+  if ((typeof value === 'string' && value.length <= 64) || Number.isSafeInteger(value)) return value
+  return undefined
 }

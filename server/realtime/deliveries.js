@@ -18,6 +18,9 @@ import { seedsDelivery } from './delivery-seeds.js'
  * @property {Set<import('./connection.js').Connection>} clients
  * @property {(drop: import('../game/drop.js').Drop, text: string) => void} dropAnnounced a drop was recorded (`text`: its `dropped` without balance, JSON)
  * @property {(drop: import('../game/drop.js').Drop, text: string) => void} dropSettled a drop was credited (`text`: its `settled` without balance, JSON)
+ * @property {(client: import('./connection.js').Connection, text: string) => void} ownerSettled the owner's `settled`
+ *   (JSON with its balance) for one of its sockets in this room: sent now, or held for the room's next frame
+ * @property {(client: import('./connection.js').Connection) => void} leave a socket leaves: it is owed nothing more here
  * @property {() => void} beforeJoin a socket is about to get `joined` (its `balls` cover what was announced so far)
  * @property {() => void} flushNow SPECTATOR_EVENTS=immediate: a batch just committed
  * @property {(tally: DeliveryTally) => void} afterTick the room stepped: send what is due

@@ -1,20 +1,26 @@
 import { ENGINE_VERSIONS } from '../../engine/index.js'
-import { encodeDropEvents, FlightHasher } from '../../protocol/drop-events-codec.js'
+import { encodeDropEvents, withOwnMessages, FlightHasher } from '../../protocol/drop-events-codec.js'
 
 /** At most this long (seconds) between two desync checks while balls are in flight. */
 export const DESYNC_CHECK_SECONDS = 2
 
 /**
  * The `seeds` delivery: the page simulates every ball from its drop seed,
- * so its sockets get no positions. Its own drops' `dropped`/`settled` (with
- * the balance) reach the owner at once, as in every mode (drop-lifecycle.js);
+ * so its sockets get no positions. Its own drops' `dropped` (with the
+ * balance) reaches the owner at once, as in every mode (drop-lifecycle.js);
  * this feed sends the room's drop-events frames (protocol/drop-events-codec.js,
  * encoded once per room): the drops announced since the last frame, on
  * ticks where (tick + phase) is a multiple of eventEvery (60 / EVENT_HZ), and
  * on such a tick with nothing announced, a desync check alone when balls are
- * in flight and none went out for checkEvery ticks. Nothing else: a room
+ * in flight and none went out for checkEvery ticks. The owner's `settled`
+ * (with the balance) rides in its copy of the room's next frame (the
+ * owner's section), at most 1/EVENT_HZ after it was credited: the page has
+ * seen the ball land by then, and a frame less per drop is a write less
+ * per socket. Held messages go out on their own first whenever anything
+ * else is sent to that socket, or it leaves or closes, so its messages and
+ * balances keep their order (Connection.sendDeferred). Nothing else: a room
  * where nothing happens sends nothing. Other players' settlements are not
- * sent (the page computes the landing; the facts are public over HTTP).
+ * sent (the page computes the landing; the facts are fetched on demand).
  * @type {import('./deliveries.js').Delivery}
  */
 export const seedsDelivery = {
@@ -33,6 +39,21 @@ class SeedFeed {
     this.pending = []
     this.lastFrameTick = -Infinity
     this.hasher = new FlightHasher()
+    /** Sockets holding a `settled` for the next frame. @type {Set<import('./connection.js').Connection>} */
+    this.owed = new Set()
+  }
+
+  /** @param {import('./connection.js').Connection} client @param {string} text */
+  ownerSettled (client, text) {
+    client.defer(text)
+    this.owed.add(client)
+  }
+
+  /** @param {import('./connection.js').Connection} client */
+  leave (client) {
+    this.clients.delete(client)
+    this.owed.delete(client)
+    client.sendDeferred()
   }
 
   dropAnnounced (drop) {
@@ -56,16 +77,28 @@ class SeedFeed {
       return
     }
     if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
-    if (this.pending.length === 0 && (room.visibleCount === 0 || tick - this.lastFrameTick < room.checkEvery)) return
+    const forEveryone = this.pending.length > 0 || (room.visibleCount > 0 && tick - this.lastFrameTick >= room.checkEvery)
+    if (!forEveryone && this.owed.size === 0) return
     // A period's drops fit one frame: at most MAX_BALLS_PER_ROOM (≤ 4,096) are in flight,
     // and no ball lands within one period (≤ 1 s), far below MAX_EVENTS_PER_FRAME.
     const frame = encodeDropEvents(tick, this._flightHash(), this.pending)
+    // A frame of one player's drops alone tells that player nothing it has not had in its `dropped`.
+    const onlyDropsOf = soleDropper(this.pending)
     this.pending.length = 0
-    this.lastFrameTick = tick
+    if (forEveryone) this.lastFrameTick = tick
     let written = 0
-    for (const client of this.clients) if (client.sendEventFrame(frame)) written++
+    let bytes = 0
+    const owed = this.owed
+    for (const client of forEveryone ? this.clients : owed) {
+      const own = owed.size > 0 && owed.has(client) ? client.takeDeferred() : null
+      // Nothing for it: what it was owed went out on its own since, or the frame holds its own drops only.
+      if (own === null && (!forEveryone || client.account === onlyDropsOf)) continue
+      const copy = own === null ? frame : withOwnMessages(frame, own)
+      if (client.sendEventFrame(copy)) { written++; bytes += copy.length }
+    }
+    owed.clear()
     tally.eventFrames += written
-    tally.eventBytes += written * frame.length
+    tally.eventBytes += bytes
   }
 
   /** The flight hash (drop-events-codec.js) of the room's visible balls at its current tick. */
@@ -79,4 +112,15 @@ class SeedFeed {
     }
     return hasher.digest()
   }
+}
+
+/**
+ * The account whose drops are all of `drops`, or null (none, or several players').
+ * @param {import('../game/drop.js').Drop[]} drops
+ */
+function soleDropper (drops) {
+  if (drops.length === 0) return null
+  const account = drops[0].account
+  for (let i = 1; i < drops.length; i++) if (drops[i].account !== account) return null
+  return account
 }

@@ -30,6 +30,12 @@ class SnapshotFeed {
   dropAnnounced (drop, text) { this._queue(text) }
   dropSettled (drop, text) { this._queue(text) }
 
+  /** The owner's `settled` goes at once: its next room frame may be skipped (sendRoomFrame). */
+  ownerSettled (client, text) { client.sendEvent(text, 'settled') }
+
+  /** @param {import('./connection.js').Connection} client */
+  leave (client) { this.clients.delete(client) }
+
   _queue (text) {
     if (this.clients.size > 0) this.pendingEvents.push(text)
   }

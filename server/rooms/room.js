@@ -71,7 +71,7 @@ export class Room {
 
   /** @param {any} connection @param {import('../realtime/deliveries.js').RoomFeed} feed the one join() gave it */
   leave (connection, feed) {
-    feed.clients.delete(connection)
+    feed.leave(connection)
     this.clients.delete(connection)
   }
 

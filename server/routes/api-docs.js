@@ -160,16 +160,18 @@ function withOptionalBodies (openapiObject) {
   return openapiObject
 }
 
-/** What a route needs: a player's session token, the operator token, or nothing. */
+/** What a route needs: a player's session token, the operator token, or nothing; or it checks the operator token without needing it. */
 function accessOf (route) {
   const hooks = [route.onRequest ?? []].flat()
   if (hooks.some((hook) => hook.name === 'playerOnly')) return 'player'
+  if (route.config?.tokenCheck) return 'token-check'
   // The audit routes check the operator token in a hook of their plugin (routes/audit.js), which onRoute does not see.
   if (route.url.startsWith('/api/audit/')) return 'operator'
   return 'public'
 }
 
 function tagOf (route, access) {
+  if (access === 'token-check') return 'operator'
   if (access !== 'public') return access
   if (route.url === '/ws') return 'realtime'
   if (route.url.startsWith('/api/') || route.url === '/metrics') return 'public'
@@ -202,7 +204,7 @@ function documentRoute ({ schema = {}, url, route }, queryRules) {
   const access = accessOf(route)
   const response = { ...(schema.response ?? { 200: { description: 'OK', type: 'null' } }) }
   const wanted = []
-  if (access !== 'public') wanted.push(401)
+  if (access === 'player' || access === 'operator') wanted.push(401)
   if (access === 'operator') wanted.push(403)
   if (schema.body || schema.querystring || schema.params) wanted.push(400)
   if (url.includes(':') || url.includes('*')) wanted.push(404)
@@ -214,7 +216,9 @@ function documentRoute ({ schema = {}, url, route }, queryRules) {
     ...schema,
     tags: schema.tags ?? [tagOf(route, access)],
     response,
-    ...(access === 'player' ? { security: [{ playerToken: [] }] } : access === 'operator' ? { security: [{ operatorToken: [] }] } : {})
+    ...(access === 'player' ? { security: [{ playerToken: [] }] } : access === 'operator' ? { security: [{ operatorToken: [] }] } : {}),
+    // The operator token, or none (OpenAPI's empty requirement): the check answers either.
+    ...(access === 'token-check' ? { security: [{ operatorToken: [] }, {}] } : {})
   }
   if (url === '/ws') {
     documented.description = 'Upgrade to the game\'s WebSocket (see /docs/websocket and /api/asyncapi.json). A plain GET without an upgrade is 400 E_BAD_REQUEST.'

@@ -3,18 +3,9 @@ import { gameError } from '../errors.js'
 import { dropList, dropRecord, errors } from './schemas.js'
 
 /**
- * What anyone may read of any drop: exactly what its room was told in
- * `dropped` and `settled` (the allow-list below is the response schema, so
- * nothing else can leak; no server seed, even a revealed one).
- */
-/** What a drop's room was told, and its server seed once revealed (null before): all anyone needs to verify it. */
-const PUBLIC_DROP_FIELDS = ['id', 'playerId', 'room', 'rows', 'risk', 'engineVersion', 'serverSeedHash', 'clientSeed', 'nonce', 'dropSeed', 'bet', 'startTick', 'status', 'bucket', 'multiplier', 'payout', 'payoutRule', 'ticks', 'stateHash', 'serverSeed']
-const publicDropRecord = { type: 'object', properties: Object.fromEntries(PUBLIC_DROP_FIELDS.map((field) => [field, dropRecord.properties[field]])) }
-
-/**
  * A player's own drops, newest first (the server seed appears on a drop
- * only once it has been revealed); and any drop's public facts, for a page
- * in seeds mode that verifies another player's drop on demand.
+ * only once it has been revealed). Another player's drop is read only
+ * through its share link (routes/share.js), whose token needs its seed.
  * @param {import('fastify').FastifyInstance} app
  * @param {{ store: import('../store/ledger-store.js').LedgerStore, authGuard: import('../limits/auth-guard.js').AuthGuard }} services
  */
@@ -51,18 +42,6 @@ export default async function dropRoutes (app, { store, authGuard }) {
     const drop = await store.getDrop(request.params.id)
     // Someone else's drop reads as no drop: a 403 would tell a caller which ids exist.
     if (!drop || drop.playerId !== request.playerId) throw gameError('E_NOT_FOUND', `you have no drop ${request.params.id}`)
-    return drop
-  })
-
-  app.get('/api/public/drops/:id', {
-    schema: {
-      summary: "Any drop's public facts: what its room was told in `dropped` and `settled` (to verify another player's drop)",
-      params: { type: 'object', properties: { id: { type: 'integer', minimum: 1, maximum: Number.MAX_SAFE_INTEGER } }, required: ['id'] },
-      response: { 200: publicDropRecord, ...errors(400, 404) }
-    }
-  }, async (request) => {
-    const drop = await store.getDrop(request.params.id)
-    if (!drop) throw gameError('E_NOT_FOUND', `no drop ${request.params.id}`)
     return drop
   })
 }

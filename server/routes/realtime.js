@@ -1,5 +1,4 @@
-import { Connection } from '../realtime/connection.js'
-import { createMessageParser } from '../realtime/message-schemas.js'
+import { Connection, createMessageParser } from '../realtime/connection.js'
 import { playerIdForToken } from '../auth.js'
 import { ERROR_CODES, GameError, gameError } from '../errors.js'
 import { TokenBucket } from '../limits/token-bucket.js'

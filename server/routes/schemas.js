@@ -11,6 +11,18 @@ export const errorReply = {
   required: ['code', 'message']
 }
 
+/**
+ * The body of a POST that takes no options: absent (what the pages, the
+ * k6 players and the scripts send) or `{}`; anything else is 400
+ * E_BAD_REQUEST, so a misspelt option is never silently ignored.
+ */
+export const noOptionsBody = {
+  type: ['object', 'null'],
+  description: 'No options: send no body, or `{}`',
+  properties: {},
+  additionalProperties: false
+}
+
 export const clientSeed = { type: 'string', pattern: CLIENT_SEED_PATTERN }
 
 const nullable = (type) => ({ type: [type, 'null'] })

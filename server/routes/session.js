@@ -1,7 +1,7 @@
 import { createSession } from '../game/sessions.js'
 import { requirePlayer } from '../auth.js'
 import { toCredits } from '../game/money.js'
-import { errors } from './schemas.js'
+import { errors, noOptionsBody } from './schemas.js'
 
 const sessionReply = {
   type: 'object',
@@ -18,18 +18,6 @@ const sessionReply = {
 const { token, ...meProperties } = sessionReply.properties
 
 /**
- * A guest session takes no options: the body is absent (what the player page,
- * the k6 players and the scripts send) or `{}`; anything else is 400
- * E_BAD_REQUEST, so a misspelt option is never silently ignored.
- */
-const sessionBody = {
-  type: ['object', 'null'],
-  description: 'No options: send no body, or `{}`',
-  properties: {},
-  additionalProperties: false
-}
-
-/**
  * POST /api/session: a new guest player (play money) and its token.
  * GET /api/me: the caller's balance and fairness state.
  * @param {import('fastify').FastifyInstance} app
@@ -44,7 +32,7 @@ export default async function sessionRoutes (app, { config, store, accounts, aut
     config: { rateLimit: { max: config.sessionRateLimit, timeWindow: 60_000 } },
     schema: {
       summary: 'Create a guest session',
-      body: sessionBody,
+      body: noOptionsBody,
       response: { 201: sessionReply, ...errors(400, 429) }
     }
   }, async (request, reply) => {

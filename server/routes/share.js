@@ -1,19 +1,19 @@
 import { createHash, timingSafeEqual } from 'node:crypto'
+import { SHARE_TOKEN_LENGTH, shareTokenMessage, shareTokenOf } from '../../protocol/share-token.js'
 import { gameError } from '../errors.js'
 import { errors } from './schemas.js'
 
-/** Hex characters of a share link's token. */
-export const SHARE_TOKEN_LENGTH = 20
-
 /**
- * A drop's share token: the first SHARE_TOKEN_LENGTH hex characters of
- * sha256("share:" + its drop seed). Only the player sees a drop seed before
- * sharing (GET /api/drops), so only they can make the link, and nobody can
- * walk the ids to read other players' drops. The page computes the same.
+ * A drop's share token (protocol/share-token.js: the first
+ * SHARE_TOKEN_LENGTH hex characters of sha256("share:" + its drop seed)),
+ * with node:crypto. Only who was told a drop's seed can make it: its player
+ * (GET /api/drops) and the players of its room (the seed is announced
+ * there, and the player page checks other players' drops through this
+ * route); nobody can walk the ids to read other players' drops.
  * @param {string} dropSeed
  */
 export function shareToken (dropSeed) {
-  return createHash('sha256').update(`share:${dropSeed}`, 'utf8').digest('hex').slice(0, SHARE_TOKEN_LENGTH)
+  return shareTokenOf(createHash('sha256').update(shareTokenMessage(dropSeed), 'utf8').digest('hex'))
 }
 
 /** How a shared drop names its player: the first six characters of the id, never the whole id. @param {string} playerId */
@@ -53,7 +53,8 @@ const sharedDrop = {
  * with no token of a session: the player by tag only, the seeds, and the
  * server seed once revealed (never before). A wrong token is a 404 like
  * an unknown id. The page /share/:id/:token (client/share.html) replays
- * and verifies it in the viewer's browser.
+ * and verifies it in the viewer's browser; the player page verifies
+ * another player's drop in its room feed with it (client/public-drop-check.js).
  * @param {import('fastify').FastifyInstance} app
  * @param {{ store: import('../store/ledger-store.js').LedgerStore }} services
  */

@@ -2,13 +2,15 @@
  * The browser client's pure modules, run in Node: the playout clock of
  * SnapshotTimeline (out-of-order frames slotted in, stale ones dropped, the
  * render clock never going backwards), the socket URL the page connects to
- * before and after an E_WRONG_NODE redirect, and that the pages take the
- * wire format from /protocol/ (the server's own module), not a copy.
+ * before and after an E_WRONG_NODE redirect, the shorter forms of a bucket
+ * label, and that the pages take the wire format from /protocol/ (the
+ * server's own module), not a copy.
  */
 import { describe, it, expect } from 'vitest'
 import { readdirSync, readFileSync } from 'node:fs'
 import { socketUrl } from '../../client/socket-url.js'
 import { SnapshotTimeline } from '../../client/snapshot-timeline.js'
+import { LABEL_FORMS, labelText } from '../../client/bucket-labels.js'
 
 function lcg (seed) {
   let state = seed >>> 0
@@ -17,6 +19,18 @@ function lcg (seed) {
     return state / 2 ** 32
   }
 }
+
+describe('bucket label forms', () => {
+  it('shortens a multiplier step by step: thousands in k, then no sign, then no leading zero', () => {
+    const forms = (m) => LABEL_FORMS.map((form) => labelText(m, form))
+    expect(forms(1000)).toEqual(['1000×', '1k×', '1k', '1k'])
+    expect(forms(1500)).toEqual(['1500×', '1.5k×', '1.5k', '1.5k'])
+    expect(forms(110)).toEqual(['110×', '110×', '110', '110'])
+    expect(forms(0.52)).toEqual(['0.52×', '0.52×', '0.52', '.52'])
+    expect(forms(0.201)).toEqual(['0.2×', '0.2×', '0.2', '.2'])
+    expect(forms(16)).toEqual(['16×', '16×', '16', '16'])
+  })
+})
 
 describe('SnapshotTimeline', () => {
   const snapshot = (tick) => ({ tick, slots: new Int32Array(0), xs: new Float32Array(0), ys: new Float32Array(0) })

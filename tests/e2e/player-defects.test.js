@@ -147,11 +147,11 @@ describe('player page defects (issue #12)', () => {
       expect(await cutOff(page, '#history td, #history td *'), `history at ${viewport.width}px`).toEqual([])
       const table = await overflowingTable(page, '.history .table-wrap')
       expect(table.scroll, `history table at ${viewport.width}px`).toBeLessThanOrEqual(table.wrap + 1)
-      // Every multiplier readable: at least 9 CSS px, within its bucket.
+      // Every multiplier readable: at least 11 CSS px, within its bucket.
       const labels = await page.evaluate(() => window.__plinko.labels)
       expect(labels).toHaveLength(17)
       for (const label of labels) {
-        expect(label.px, `${label.text} at ${viewport.width}px`).toBeGreaterThanOrEqual(9)
+        expect(label.px, `${label.text} at ${viewport.width}px`).toBeGreaterThanOrEqual(11)
         expect(label.width, `${label.text} at ${viewport.width}px`).toBeLessThanOrEqual(label.room + 0.5)
       }
       const header = await cutOff(page, '.topbar, .topbar *')

@@ -1,7 +1,8 @@
 /**
  * Issue #24's layout and look items, in Chromium against the real server:
  * a board that fills the desktop stage; bucket labels and key hints at
- * WCAG AA contrast (4.5:1) and readable sizes; floating payouts that never
+ * WCAG AA contrast (4.5:1) and readable sizes (the labels at every width
+ * from 320 to 1920 px, never below 11 px nor out of their buckets); floating payouts that never
  * cover the bucket labels; prefers-reduced-motion honoured; connection
  * figures behind a toggle; results and auto-bet's end announced politely.
  */
@@ -89,6 +90,45 @@ describe('player page: layout and look', () => {
       expect(hint.opacity, `"${hint.text}" opacity`).toBe(1)
       expect(hint.contrast, `"${hint.text}" contrast on ${hint.background}`).toBeGreaterThanOrEqual(4.5)
     }
+    expect(page.problems).toEqual([])
+    await page.context().close()
+  })
+
+  it('keeps every bucket label at 11 px or more, inside its bucket, at every width from 320 to 1920 px, on 8 and 16 rows', async () => {
+    const page = await openPlayer(chromium, server)
+    const wrong = []
+    const forms = new Set()
+    for (const rows of [16, 8]) {
+      for (const risk of ['low', 'medium', 'high']) {
+        await page.selectOption('#rows', String(rows))
+        await page.selectOption('#risk', risk)
+        await waitInPage(page, `room ${rows}-${risk}`, (id) => window.__plinko.room === id, `${rows}-${risk}`)
+        for (let width = 320; width <= 1920; width += 40) {
+          await page.setViewportSize({ width, height: DESKTOP.height })
+          await nextFrames(page)
+          await nextFrames(page)
+          const labels = await page.evaluate(() => window.__plinko.labels)
+          const where = `${rows}-${risk} at ${width} px`
+          if (labels.length !== rows + 1) wrong.push(`${where}: ${labels.length} labels`)
+          labels.forEach((label, i) => {
+            forms.add(label.form)
+            const { box, bucket } = label
+            if (label.px < 11) wrong.push(`${where}: "${label.text}" drawn at ${label.px.toFixed(2)} px`)
+            if (label.width > label.room + 0.5) wrong.push(`${where}: "${label.text}" ${label.width.toFixed(1)} px long in ${label.room.toFixed(1)} px`)
+            if (!box || box.left < bucket.left - 0.5 || box.right > bucket.right + 0.5 || box.top < bucket.top - 0.5 || box.bottom > bucket.bottom + 0.5) {
+              wrong.push(`${where}: "${label.text}" outside its bucket: ${JSON.stringify(box)} in ${JSON.stringify(bucket)}`)
+            }
+            const next = labels[i + 1]
+            if (next && (!box || !next.box || box.right > next.box.left)) wrong.push(`${where}: "${label.text}" overlaps "${next.text}"`)
+          })
+          // One form per board: its labels read as one row.
+          if (new Set(labels.map((l) => l.form)).size !== 1) wrong.push(`${where}: mixed forms ${labels.map((l) => l.text).join(' ')}`)
+        }
+      }
+    }
+    expect(wrong).toEqual([])
+    // The sweep went through the shortened forms and the upright labels, not only the wide screens' full ones.
+    expect([...forms].sort()).toEqual(['bare', 'full', 'kilo'])
     expect(page.problems).toEqual([])
     await page.context().close()
   })

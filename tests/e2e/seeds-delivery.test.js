@@ -62,7 +62,7 @@ async function dropFrom (page, count) {
 
 /**
  * Every traced position against the engine: the drop's facts from the
- * public route, its path from simulateDrop, the expected position the
+ * ledger (the operator's audit route), its path from simulateDrop, the expected position the
  * engine's interpolation between the two steps around the traced tick.
  */
 async function compareWithEngine (trace) {
@@ -71,9 +71,9 @@ async function compareWithEngine (trace) {
   let worst = 0
   for (const { dropId, tick, x, y } of trace) {
     if (!paths.has(dropId)) {
-      const { body } = await server.api('GET', `/api/public/drops/${dropId}`)
-      const board = createBoard({ rows: body.rows, risk: body.risk, engineVersion: body.engineVersion })
-      paths.set(dropId, { startTick: body.startTick, path: simulateDrop(board, body.dropSeed, { trajectory: true }).trajectory })
+      const { drop } = await server.audit(`/api/audit/drops/${dropId}`)
+      const board = createBoard({ rows: drop.rows, risk: drop.risk, engineVersion: drop.engineVersion })
+      paths.set(dropId, { startTick: drop.startTick, path: simulateDrop(board, drop.dropSeed, { trajectory: true }).trajectory })
     }
     const { startTick, path } = paths.get(dropId)
     const age = tick - startTick
@@ -139,7 +139,7 @@ describe('seeds delivery on the player page', () => {
     const first = new Map()
     for (const p of seeds.trace) if (theirs.includes(p.dropId) && !first.has(p.dropId)) first.set(p.dropId, p)
     const ages = []
-    for (const [dropId, p] of first) ages.push(p.tick - (await server.api('GET', `/api/public/drops/${dropId}`)).body.startTick)
+    for (const [dropId, p] of first) ages.push(p.tick - (await server.audit(`/api/audit/drops/${dropId}`)).drop.startTick)
     console.info(`[e2e] late frames: first drawn at ages ${ages.map((a) => a.toFixed(1)).join(', ')} ticks; ${compared} positions, largest difference ${worst} px; ${JSON.stringify(seeds.room)}`)
     expect(ages).toHaveLength(5)
     for (const age of ages) expect(age).toBeGreaterThanOrEqual((LATE_MS - SETTLE_MARGIN_MS) * 60 / 1000 - 1)

@@ -95,6 +95,72 @@ describe('failed authentication is throttled per address', () => {
   })
 })
 
+/**
+ * Issue #24, item 18: the operator page signs in through POST
+ * /api/audit/token-check, which answers 200 whatever the token (so the
+ * browser logs no refused request), yet counts a wrong one as the operator
+ * routes do: the throttle cannot be dodged through it.
+ */
+describe('the operator token check', () => {
+  const backend = storeBackend('sqlite')
+  let server
+  beforeAll(async () => {
+    await backend.setup()
+    server = await startServer(await backend.newDatabase(), { env: { AUTH_FAILURE_LIMIT: String(LIMIT), AUTH_BLOCK_MS: String(BLOCK_MS) } })
+  })
+  afterAll(async () => {
+    await server?.close()
+    await backend.teardown()
+  })
+
+  const check = (token, ip) => server.app.inject({ method: 'POST', url: '/api/audit/token-check', remoteAddress: ip, headers: token ? { authorization: `Bearer ${token}` } : {} })
+  const drops = (token, ip) => server.app.inject({ method: 'GET', url: '/api/audit/drops?limit=1', remoteAddress: ip, headers: { authorization: `Bearer ${token}` } })
+
+  it('answers 200 with whether the token is the operator token', async () => {
+    const ip = '10.5.0.1'
+    const right = await check(OPERATOR_TOKEN, ip)
+    expect([right.statusCode, right.json()]).toEqual([200, { valid: true }])
+    const none = await check(null, ip)
+    expect([none.statusCode, none.json()]).toEqual([200, { valid: false, code: 'E_UNAUTHORIZED', message: expect.any(String) }])
+    const wrong = await check('not-the-operator-token', ip)
+    expect([wrong.statusCode, wrong.json()]).toEqual([200, { valid: false, code: 'E_FORBIDDEN', message: 'wrong operator token' }])
+    // Options are refused, as on POST /api/session; none, or {}, is the request.
+    const body = await server.app.inject({ method: 'POST', url: '/api/audit/token-check', remoteAddress: ip, headers: { authorization: `Bearer ${OPERATOR_TOKEN}` }, payload: { token: OPERATOR_TOKEN } })
+    expect([body.statusCode, body.json().code]).toEqual([400, 'E_BAD_REQUEST'])
+    const empty = await server.app.inject({ method: 'POST', url: '/api/audit/token-check', remoteAddress: ip, headers: { authorization: `Bearer ${OPERATOR_TOKEN}` }, payload: {} })
+    expect(empty.json()).toEqual({ valid: true })
+  })
+
+  it('counts each wrong token: after AUTH_FAILURE_LIMIT of them the audit routes answer the address 429, and the check says how long to wait', async () => {
+    const ip = '10.5.0.2'
+    for (let i = 0; i < LIMIT; i++) {
+      const wrong = await check(`wrong-operator-token-${i}`, ip)
+      expect([wrong.statusCode, wrong.json().code], `guess ${i}`).toEqual([200, 'E_FORBIDDEN'])
+    }
+    // The real routes, with the right token, from that address: blocked.
+    const blocked = await drops(OPERATOR_TOKEN, ip)
+    expect(blocked.statusCode).toBe(429)
+    expect(blocked.json().code).toBe('E_RATE_LIMITED')
+    expect(Number(blocked.headers['retry-after'])).toBeGreaterThanOrEqual(1)
+    // The check tells the blocked address so, whatever the token: a right guess looks like a wrong one.
+    for (const token of [OPERATOR_TOKEN, 'another-guess']) {
+      const answer = await check(token, ip)
+      expect(answer.statusCode).toBe(200)
+      expect(answer.json()).toEqual({ valid: false, code: 'E_RATE_LIMITED', message: expect.stringMatching(/retry in \d+ s/), retryAfter: expect.any(Number) })
+      expect(answer.json().retryAfter).toBeLessThanOrEqual(Math.ceil(BLOCK_MS / 1000))
+      expect(answer.headers['retry-after']).toBeUndefined()
+    }
+    // Another address is not affected.
+    expect((await check(OPERATOR_TOKEN, '10.5.0.3')).json()).toEqual({ valid: true })
+    expect((await drops(OPERATOR_TOKEN, '10.5.0.3')).statusCode).toBe(200)
+    // Guesses on the check and on the routes add up to one budget.
+    await eventually(async () => (await check(OPERATOR_TOKEN, ip)).json().valid === true, { intervalMs: 100 })
+    for (let i = 0; i < LIMIT - 1; i++) expect((await check('wrong-again', ip)).json().code).toBe('E_FORBIDDEN')
+    expect((await drops('wrong-again', ip)).statusCode).toBe(403)
+    expect((await drops(OPERATOR_TOKEN, ip)).statusCode).toBe(429)
+  })
+})
+
 describe('an OPERATOR_TOKEN too weak to survive guessing', () => {
   const weak = ['passwordpasswordpassword', 'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa', 'hunter2hunter2hunter2hunter2', 'short-secret']
   it('is refused with a ConfigError that says why, and never shows the token', () => {

@@ -17,7 +17,7 @@ const REQUESTS = 3000
 const ROUTES = [
   '/api/session', '/api/me', '/api/drops', '/api/drops/1', '/api/drops/:id', '/api/seeds', '/api/seeds/rotate', '/api/seeds/client',
   '/api/rooms', '/api/health', '/metrics', '/api/audit/drops', '/api/audit/drops/1', '/api/audit/verify', '/api/audit/export',
-  '/api/audit/rooms/8-low/stats', '/api/audit/rooms/:id/stats', '/engine/index.js', '/engine/:file', '/vendor/seedrandom.js', '/ws', '/', '/audit'
+  '/api/audit/rooms/8-low/stats', '/api/audit/rooms/:id/stats', '/api/audit/token-check', '/engine/index.js', '/engine/:file', '/vendor/seedrandom.js', '/ws', '/', '/audit'
 ]
 const QUERY_KEYS = ['limit', 'before', 'player', 'room', 'from', 'to', 'serverSeed', 'clientSeed', 'nonce', 'rows', 'risk', 'serverSeedHash', 'format', 'token', 'x', '__proto__', 'constructor']
 const value = fc.oneof(

@@ -1,9 +1,11 @@
 import { describe, it, expect } from 'vitest'
 import { EventEmitter } from 'node:events'
-import { Connection } from '../../server/realtime/connection.js'
-import { createMessageParser } from '../../server/realtime/message-schemas.js'
+import { Connection, createMessageParser } from '../../server/realtime/connection.js'
 import { createMetrics } from '../../server/metrics.js'
 import { TokenBucket } from '../../server/limits/token-bucket.js'
+import { seedsDelivery } from '../../server/realtime/delivery-seeds.js'
+import { emptyTally } from '../../server/realtime/deliveries.js'
+import { decodeDropEvents } from '../../protocol/drop-events-codec.js'
 
 /** A stand-in for a ws WebSocket whose send queue the test controls. */
 function fakeSocket () {
@@ -115,5 +117,70 @@ describe('Connection backpressure', () => {
     expect(socket.closedWith).toBeNull()
     connection.heartbeat()
     expect(socket.closedWith).toEqual({ code: 'terminated' })
+  })
+})
+
+describe("the seeds delivery's owner section", () => {
+  /** A seeds feed of a room with no balls, at an event tick. */
+  function seedsRoom (connection) {
+    const room = {
+      id: '8-low', tick: 15, snapshotPhase: 0, eventEvery: 15, checkEvery: 120, visibleCount: 0, visible: new Uint8Array(0),
+      simulator: { world: { bodyCount: 0 } }
+    }
+    const feed = seedsDelivery.createFeed(room)
+    feed.clients.add(connection)
+    connection.room = room
+    connection.feed = feed
+    return { room, feed }
+  }
+
+  it("holds the owner's settled for the room's next frame, and sends held messages first when anything else goes out", () => {
+    const { socket, connection, account } = setup()
+    connection.authenticated(account)
+    const { room, feed } = seedsRoom(connection)
+    socket.sent.length = 0
+    const settledA = '{"type":"settled","dropId":1,"balance":12}'
+    connection.sendSettled(settledA, room)
+    expect(socket.sent).toEqual([]) // held
+    feed.afterTick(emptyTally())
+    // One frame, for the owner only (nothing else happened in the room): no events, its settled in the owner's section.
+    expect(socket.sent).toHaveLength(1)
+    expect(decodeDropEvents(socket.sent[0])).toMatchObject({ tick: 15, events: [], own: [JSON.parse(settledA)] })
+
+    // Held, then a `dropped` is sent before the next frame: the settled goes first, on its own, and the frame carries nothing.
+    socket.sent.length = 0
+    const settledB = '{"type":"settled","dropId":2,"balance":20}'
+    connection.sendSettled(settledB, room)
+    connection.sendEvent('{"type":"dropped","dropId":3,"balance":19}', 'dropped')
+    expect(socket.sent).toEqual([settledB, '{"type":"dropped","dropId":3,"balance":19}'])
+    room.tick = 30
+    feed.afterTick(emptyTally())
+    expect(socket.sent).toHaveLength(2)
+
+    // Leaving the room (or closing) sends what is held.
+    const settledC = '{"type":"settled","dropId":4,"ref":"é"}'
+    connection.sendSettled(settledC, room)
+    feed.leave(connection)
+    expect(socket.sent.at(-1)).toBe(settledC)
+    const settledD = '{"type":"settled","dropId":5}'
+    feed.clients.add(connection)
+    connection.sendSettled(settledD, room)
+    connection.close(1001, 'bye')
+    expect(socket.sent.at(-1)).toBe(settledD)
+  })
+
+  it('writes the owner section in ASCII whatever the text, and a settled from another room goes at once', () => {
+    const { socket, connection, account } = setup()
+    connection.authenticated(account)
+    const { room, feed } = seedsRoom(connection)
+    socket.sent.length = 0
+    const text = '{"type":"settled","dropId":1,"ref":"ü→😀"}'
+    connection.sendSettled(text, room)
+    feed.afterTick(emptyTally())
+    const frame = socket.sent[0]
+    expect([...frame.subarray(15)].every((byte) => byte < 0x80)).toBe(true)
+    expect(decodeDropEvents(frame).own).toEqual([JSON.parse(text)])
+    connection.sendSettled('{"type":"settled","dropId":9}', { id: 'another' })
+    expect(socket.sent.at(-1)).toBe('{"type":"settled","dropId":9}')
   })
 })

@@ -1,6 +1,5 @@
 import { describe, it, expect } from 'vitest'
-import { GroupCommit } from '../../server/game/group-commit.js'
-import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { GroupCommit, toLedgerBatch } from '../../server/game/drop.js'
 import { createMetrics } from '../../server/metrics.js'
 
 /** A store whose commits the test resolves or rejects one at a time. */

@@ -1,7 +1,7 @@
 import { describe, it, expect } from 'vitest'
 import fc from 'fast-check'
 import { balanceChanges, RunningBalances, payoutFor, betCost, betTotals, payoutTotals } from '../../server/game/money.js'
-import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { toLedgerBatch } from '../../server/game/drop.js'
 import { calibrationOf, multiplierTable, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/index.js'
 
 const players = ['a', 'b', 'c']

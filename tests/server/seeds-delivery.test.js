@@ -1,7 +1,8 @@
 import { describe, it, expect, beforeAll } from 'vitest'
 import { createHash } from 'node:crypto'
-import { createBoard, DropSimulator, ENGINE_VERSIONS } from '../../engine/index.js'
+import { createBoard, DropSimulator, ENGINE_VERSIONS, sha256Hex } from '../../engine/index.js'
 import { FlightHasher } from '../../protocol/drop-events-codec.js'
+import { shareTokenMessage, shareTokenOf } from '../../protocol/share-token.js'
 import { useServerOn, eventually } from './helpers/server.js'
 
 /**
@@ -100,8 +101,29 @@ describe('seeds delivery', () => {
       known.push(...frame.events)
       expect(pageFlightHash(board, frame.tick, known)).toBe(frame.hash)
     }
-    // The dropper got the same frames (its own drops in them, to skip).
-    expect(dropper.client.eventFrames.map((f) => f.hash)).toEqual(frames.map((f) => f.hash))
+    // The dropper got the same frames, but for those holding nothing but its own drops (it had
+    // them in its `dropped`) unless they carry its own `settled`, and besides them only frames
+    // that carry its own `settled` (the owner's section) with no events.
+    const dropperFrames = dropper.client.eventFrames
+    const everyones = dropperFrames.filter((f) => frames.some((w) => w.tick === f.tick))
+    const ownOnly = (f) => f.events.length > 0 && f.events.every((e) => e.player === dropper.client.welcome.playerId)
+    expect(everyones.map((f) => f.hash)).toEqual(frames.filter((w) => !ownOnly(w) || dropperFrames.some((f) => f.tick === w.tick)).map((f) => f.hash))
+    for (const f of everyones) if (ownOnly(f)) expect(f.own.length).toBeGreaterThan(0)
+    expect(frames.some(ownOnly)).toBe(true) // the case above happened
+    for (const f of dropperFrames.filter((d) => !everyones.includes(d))) {
+      expect(f.events).toEqual([])
+      expect(f.own.length).toBeGreaterThan(0)
+      expect(f.own.every((m) => m.type === 'settled')).toBe(true)
+    }
+    // Its `settled` came in those frames, never on its own, each on the room's event grid
+    // after the ball landed; the watcher's frames carry no one else's.
+    const ownSettled = dropper.client.messages.filter((m) => m.type === 'settled')
+    expect(ownSettled.map((m) => m.dropId).sort()).toEqual([...ids].sort())
+    for (const m of ownSettled) {
+      expect(m.viaFrame).toBeGreaterThanOrEqual(m.tick)
+      expect((m.viaFrame - frames[0].tick) % 15).toBe(0)
+    }
+    expect(frames.every((f) => f.own.length === 0)).toBe(true)
     await Promise.all([watcher.client.close(), spectator.client.close(), dropper.client.close()])
   })
 
@@ -165,16 +187,23 @@ describe('seeds delivery', () => {
     await client.close()
   })
 
-  it("serves any drop's public facts: what its room was told, and its server seed once revealed", async () => {
+  it("serves another player's drop to a seeds watcher through its share link, with the token of the seed its frame announced", async () => {
+    const watcher = await server.player('11-medium', { delivery: 'seeds' })
     const { client, session } = await server.player('11-medium', { delivery: 'seeds' })
     client.send({ type: 'drop', bet: 3, ref: 'p' })
     const dropped = await client.take((m) => m.ref === 'p')
     const settled = await client.take((m) => m.type === 'settled' && m.dropId === dropped.dropId)
-    const reply = await server.api('GET', `/api/public/drops/${dropped.dropId}`) // no token
+    // All the watcher has of it: the drop-events frame's entry (its seed among them), no `dropped` or `settled`.
+    await eventually(() => watcher.client.eventFrames.some((f) => f.events.some((e) => e.dropId === dropped.dropId)))
+    const event = watcher.client.eventFrames.flatMap((f) => f.events).find((e) => e.dropId === dropped.dropId)
+    expect(watcher.client.messages.filter((m) => m.dropId === dropped.dropId)).toEqual([])
+    // The token as the page computes it: WebCrypto (the engine's sha256Hex) over the protocol's rule, with no session.
+    const token = shareTokenOf(await sha256Hex(shareTokenMessage(event.dropSeed)))
+    const reply = await server.api('GET', `/api/share/${event.dropId}/${token}`)
     expect(reply.status).toBe(200)
-    expect(reply.body).toEqual({
+    expect(reply.body).toMatchObject({
       id: dropped.dropId,
-      playerId: dropped.player,
+      player: `${dropped.player.slice(0, 6)}…`,
       room: '11-medium',
       rows: 11,
       risk: 'medium',
@@ -182,27 +211,26 @@ describe('seeds delivery', () => {
       serverSeedHash: dropped.serverSeedHash,
       clientSeed: dropped.clientSeed,
       nonce: dropped.nonce,
-      dropSeed: dropped.dropSeed,
+      dropSeed: event.dropSeed,
       bet: 3,
-      startTick: dropped.startTick,
       status: 'settled',
       bucket: settled.bucket,
       multiplier: settled.multiplier,
       payout: settled.payout,
-      payoutRule: 2,
       ticks: settled.ticks,
       stateHash: settled.stateHash,
-      serverSeed: null
+      serverSeed: null,
+      verifiable: false
     })
+    // Never the whole player id.
+    expect(JSON.stringify(reply.body)).not.toContain(dropped.player)
     // Once the player rotates that seed it is public: the record then carries it, and it hashes to the commitment.
     const rotated = await server.api('POST', '/api/seeds/rotate', { token: session.token })
     expect(rotated.status).toBe(200)
-    const revealed = (await server.api('GET', `/api/public/drops/${dropped.dropId}`)).body
-    expect(revealed.serverSeed).toBe(rotated.body.previousServerSeed)
+    const revealed = (await server.api('GET', `/api/share/${event.dropId}/${token}`)).body
+    expect(revealed).toMatchObject({ serverSeed: rotated.body.previousServerSeed, verifiable: true })
     expect(createHash('sha256').update(revealed.serverSeed).digest('hex')).toBe(dropped.serverSeedHash)
-    expect((await server.api('GET', '/api/public/drops/999999')).body.code).toBe('E_NOT_FOUND')
-    expect((await server.api('GET', '/api/public/drops/abc')).status).toBe(400)
-    await client.close()
+    await Promise.all([watcher.client.close(), client.close()])
   })
 })
 

@@ -1,6 +1,6 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { MODES, coordinationTestbed, createPlayer, takeWhenReady } from './helpers/coordination.js'
-import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { toLedgerBatch } from '../../server/game/drop.js'
 
 /**
  * The sequences contract (server/coordination/sequences.js), run against

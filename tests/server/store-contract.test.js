@@ -3,7 +3,7 @@ import { createHash } from 'node:crypto'
 import { storeBackend } from './helpers/stores.js'
 import { openStore } from '../../server/store/open-store.js'
 import { openSharedLedger } from '../../server/cluster/shared-ledger.js'
-import { toLedgerBatch } from '../../server/game/ledger-batch.js'
+import { toLedgerBatch } from '../../server/game/drop.js'
 import { payoutFor, toMilli } from '../../server/game/money.js'
 
 /**

@@ -3,6 +3,7 @@ import { tmpdir } from 'node:os'
 import { join } from 'node:path'
 import { createBoard, simulateDrop, deriveDropSeed } from '../../../engine/index.js'
 import { waitInPage } from './browser.js'
+import { DROP_EVENTS_KIND, DROP_EVENTS_HEADER_BYTES, DROP_EVENT_BYTES, decodeDropEvents, withOwnMessages } from '../../../protocol/drop-events-codec.js'
 import { imageStats } from './png.js'
 
 /**
@@ -20,11 +21,12 @@ export const PHONE = { width: 390, height: 844 }
 
 /**
  * Opens the player page in a fresh context and waits for it to join its room.
- * @param {{ newPage: Function }} chromium @param {{ base: string }} server @param {object} [options] context options
+ * @param {{ newPage: Function }} chromium @param {{ base: string }} server
+ * @param {object} [options] context options, and `path`: the page's address (default `/`, e.g. `/?delivery=snapshots`)
  */
-export async function openPlayer (chromium, server, options = {}) {
+export async function openPlayer (chromium, server, { path = '/', ...options } = {}) {
   const page = await chromium.newPage({ viewport: DESKTOP, ...options })
-  await page.goto(`${server.base}/`)
+  await page.goto(`${server.base}${path}`)
   await waitInPage(page, 'the page to join its room', () => window.__plinko?.ready === true)
   return page
 }
@@ -116,12 +118,21 @@ export function tamperSettledStateHash (page, { once = false } = {}) {
   let tampered = false
   return page.routeWebSocket(/\/ws\?/, (ws) => {
     const upstream = ws.connectToServer()
+    const flip = (settled) => {
+      tampered = true
+      settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
+      return settled
+    }
     upstream.onMessage((message) => {
       if (!(once && tampered) && typeof message === 'string' && message.startsWith('{"type":"settled"')) {
-        tampered = true
-        const settled = JSON.parse(message)
-        settled.stateHash = settled.stateHash.replace(/^./, (c) => (c === '0' ? '1' : '0'))
-        message = JSON.stringify(settled)
+        message = JSON.stringify(flip(JSON.parse(message)))
+      } else if (!(once && tampered) && typeof message !== 'string' && message[0] === DROP_EVENTS_KIND) {
+        // Seeds mode: the player's own `settled` rides in the owner's section of a drop-events frame.
+        const frame = decodeDropEvents(message)
+        if (frame?.own.some((m) => m.type === 'settled')) {
+          const own = frame.own.map((m) => JSON.stringify(m.type === 'settled' && !(once && tampered) ? flip(m) : m))
+          message = Buffer.from(withOwnMessages(message.subarray(0, DROP_EVENTS_HEADER_BYTES + DROP_EVENT_BYTES * frame.events.length), own))
+        }
       }
       ws.send(message)
     })

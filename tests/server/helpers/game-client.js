@@ -34,7 +34,10 @@ export class GameClient {
     })
     this.socket.on('message', (data, isBinary) => {
       if (isBinary && data[0] === DROP_EVENTS_KIND) {
-        this.eventFrames.push({ ...decodeDropEvents(data), bytes: data.length, at: performance.now() })
+        const frame = decodeDropEvents(data)
+        this.eventFrames.push({ ...frame, bytes: data.length, at: performance.now() })
+        // The owner's section: this player's own messages, as if each had come on its own.
+        for (const message of frame?.own ?? []) this.messages.push({ ...message, viaFrame: frame.tick })
       } else if (isBinary) {
         // A room frame's events read as if each had come on its own, before the snapshot.
         const { events, snapshot } = splitRoomFrame(data)
