@@ -17,6 +17,21 @@ function sample (text, name, kind) {
   return match ? Number(match[1]) : 0
 }
 
+/** A server with AUTH_FAILURE_LIMIT=LIMIT and AUTH_BLOCK_MS=BLOCK_MS for the describe() it is called in. */
+function throttledServer () {
+  const backend = storeBackend('sqlite')
+  const started = { server: null }
+  beforeAll(async () => {
+    await backend.setup()
+    started.server = await startServer(await backend.newDatabase(), { env: { AUTH_FAILURE_LIMIT: String(LIMIT), AUTH_BLOCK_MS: String(BLOCK_MS) } })
+  })
+  afterAll(async () => {
+    await started.server?.close()
+    await backend.teardown()
+  })
+  return started
+}
+
 /**
  * Issue #21, item 1: 40,045 wrong operator tokens in 10 s from one client
  * all got 403, and 700 unknown session tokens all got 401. Failed
@@ -24,16 +39,9 @@ function sample (text, name, kind) {
  * minute, then 429 with Retry-After for AUTH_BLOCK_MS, doubling).
  */
 describe('failed authentication is throttled per address', () => {
-  const backend = storeBackend('sqlite')
+  const started = throttledServer()
   let server
-  beforeAll(async () => {
-    await backend.setup()
-    server = await startServer(await backend.newDatabase(), { env: { AUTH_FAILURE_LIMIT: String(LIMIT), AUTH_BLOCK_MS: String(BLOCK_MS) } })
-  })
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { server = started.server })
 
   const get = (url, token, ip = '10.1.0.1') => server.app.inject({ method: 'GET', url, remoteAddress: ip, headers: token ? { authorization: `Bearer ${token}` } : {} })
 
@@ -102,16 +110,9 @@ describe('failed authentication is throttled per address', () => {
  * routes do: the throttle cannot be dodged through it.
  */
 describe('the operator token check', () => {
-  const backend = storeBackend('sqlite')
+  const started = throttledServer()
   let server
-  beforeAll(async () => {
-    await backend.setup()
-    server = await startServer(await backend.newDatabase(), { env: { AUTH_FAILURE_LIMIT: String(LIMIT), AUTH_BLOCK_MS: String(BLOCK_MS) } })
-  })
-  afterAll(async () => {
-    await server?.close()
-    await backend.teardown()
-  })
+  beforeAll(() => { server = started.server })
 
   const check = (token, ip) => server.app.inject({ method: 'POST', url: '/api/audit/token-check', remoteAddress: ip, headers: token ? { authorization: `Bearer ${token}` } : {} })
   const drops = (token, ip) => server.app.inject({ method: 'GET', url: '/api/audit/drops?limit=1', remoteAddress: ip, headers: { authorization: `Bearer ${token}` } })
