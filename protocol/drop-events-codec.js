@@ -182,13 +182,19 @@ export function decodeDropEvents (frame) {
       dropSeed: readHex(bytes, at + 32, 32)
     }
   }
-  const own = ownMessages(bytes, DROP_EVENTS_HEADER_BYTES + count * DROP_EVENT_BYTES)
+  const own = decodeOwnMessages(bytes, DROP_EVENTS_HEADER_BYTES + count * DROP_EVENT_BYTES)
   if (own === null) return null
   return { tick: view.getUint32(1, true), hash: hex8(view.getUint32(5, true)) + hex8(view.getUint32(9, true)), events, own }
 }
 
-/** The owner's section from `at` to the end: [] when there is none, null when it is not a JSON array. */
-function ownMessages (bytes, at) {
+/**
+ * The owner's section of a drop-events frame, from `at` (15 + 64·N) to the
+ * end: [] when there is none, null when it is not a JSON array. Exported
+ * for readers that count the events without decoding them (the k6 player).
+ * @param {Uint8Array} bytes @param {number} at
+ * @returns {object[] | null}
+ */
+export function decodeOwnMessages (bytes, at) {
   if (at === bytes.byteLength) return []
   let text = ''
   for (let i = at; i < bytes.byteLength; i += 4096) text += String.fromCharCode.apply(null, bytes.subarray(i, Math.min(i + 4096, bytes.byteLength)))

@@ -27,6 +27,7 @@ import { WebSocket } from 'k6/websockets'
 import { setTimeout, clearTimeout, setInterval, clearInterval } from 'k6/timers'
 import { metrics } from './player-metrics.js'
 import { ownerSocketUrl } from './scenario-config.js'
+import { decodeOwnMessages } from '../../protocol/drop-events-codec.js'
 
 const TICK_MS = 1000 / 60
 const JOIN_TIMEOUT_MS = 30_000
@@ -403,7 +404,7 @@ function countDropEvents (buffer, own) {
   }
   const count = bytes.length >= 15 ? bytes[13] | (bytes[14] << 8) : -1
   const end = 15 + 64 * count
-  const messages = count < 0 || bytes.length < end ? null : ownMessages(bytes, end)
+  const messages = count < 0 || bytes.length < end ? null : decodeOwnMessages(bytes, end)
   if (messages === null) {
     metrics.errors.add(1, { code: 'X_BAD_FRAME' })
     logOnce(`drop-events frame of ${bytes.length} bytes`)
@@ -413,18 +414,6 @@ function countDropEvents (buffer, own) {
   return count
 }
 
-/** The owner's section of a drop-events frame from `at`: [] if none, null if not a JSON array. */
-function ownMessages (bytes, at) {
-  if (at === bytes.length) return []
-  let text = ''
-  for (let i = at; i < bytes.length; i++) text += String.fromCharCode(bytes[i])
-  try {
-    const messages = JSON.parse(text)
-    return Array.isArray(messages) ? messages : null
-  } catch {
-    return null
-  }
-}
 
 /** What the socket received, by kind, and per second of its life. */
 function reportTraffic ({ seeds, openedAt, jsonMessages, jsonBytes, frames, frameBytes, dropEventCount }) {

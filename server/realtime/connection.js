@@ -216,13 +216,9 @@ export class Connection {
 
   /** Sends the held messages on their own (leaving the room, closing, or before any other message). */
   sendDeferred () {
-    const texts = this.takeDeferred()
-    if (texts === null || this.closed) return
-    holdWritesUntilEndOfTurn(this.socket)
-    for (const text of texts) {
-      this.socket.send(text)
-      this.metrics.bytesOut.inc(Buffer.byteLength(text))
-    }
+    const texts = this._deferred
+    this._deferred = []
+    for (const text of texts) this.sendEvent(text, 'settled')
   }
 
   /**

@@ -90,7 +90,7 @@ class SeedFeed {
     let bytes = 0
     const owed = this.owed
     for (const client of forEveryone ? this.clients : owed) {
-      const own = owed.size > 0 && owed.has(client) ? client.takeDeferred() : null
+      const own = owed.size > 0 ? client.takeDeferred() : null
       // Nothing for it: what it was owed went out on its own since, or the frame holds its own drops only.
       if (own === null && (!forEveryone || client.account === onlyDropsOf)) continue
       const copy = own === null ? frame : withOwnMessages(frame, own)
