@@ -23,7 +23,8 @@
  *   room feeds             the tick after its steps: each room's seeds frames (or snapshots) encoded and
  *                          handed to sockets, the tally, idle rooms
  *   main thread, other     the rest of the main thread (microtasks, the writer's reply, GC, metrics)
- *   other threads          SQLite writer thread, GC helpers
+ *   other threads          SQLite writer and checkpoint threads, GC helpers
+ * and each tick's wait for its commit (wall clock: p50, p99, max).
  * Socket writes (ws framing and the kernel) are not in it: the sockets are
  * stand-ins; the lean load test's profile has them.
  */
@@ -80,6 +81,8 @@ async function run (config) {
 
   let accepted = 0
   let tick = 0
+  /** @type {number[] | null} each tick's wait for its commit (wall ms), in the measured window */
+  let commitMs = null
   const step = async () => {
     clock.receiveStarts()
     for (const player of players) {
@@ -91,7 +94,9 @@ async function run (config) {
     arena.tick()
     clock.tickEnded()
     tick++
+    const committing = performance.now()
     await arena.ledger.drain()
+    if (commitMs !== null) commitMs.push(performance.now() - committing)
   }
 
   // Warm-up (WARMUP_TICKS, longer than a ball's flight): JIT, caches, the rooms' balls spread over their flight.
@@ -100,6 +105,7 @@ async function run (config) {
   while (tick < WARMUP_TICKS) await step()
   options.drops = target + accepted
   clock.reset()
+  commitMs = []
   const before = await sample(metrics, players)
   // Steady state: as many balls land in the window as are dropped, about.
   while (accepted < options.drops) await step()
@@ -107,7 +113,7 @@ async function run (config) {
   const spent = { ...clock.cpu }
   await arena.close()
   await store.close()
-  report({ drops: target, ticks: tick, before, after, spent, parse: parseTime(parseMessage, target) })
+  report({ drops: target, ticks: tick, before, after, spent, parse: parseTime(parseMessage, target), commitMs })
 }
 
 /** Players with their sessions, connections and rooms, `options.perRoom` in each of `options.rooms`. */
@@ -182,7 +188,8 @@ async function sample (metrics, players) {
   }
 }
 
-function report ({ drops, ticks, before, after, spent, parse }) {
+function report ({ drops, ticks, before, after, spent, parse, commitMs }) {
+  const commit = latencyFigures(commitMs)
   const main = after.main - before.main
   const mainUser = (after.mainSplit.user - before.mainSplit.user) / drops
   const mainSystem = (after.mainSplit.system - before.mainSplit.system) / drops
@@ -205,7 +212,7 @@ function report ({ drops, ticks, before, after, spent, parse }) {
   const total = main + threads
   if (options.json) {
     const perDrop = Object.fromEntries(parts.map(([name, micros]) => [name, micros / drops]))
-    console.log(JSON.stringify({ drops, settled, ticks, window: [before.at, after.at], perDrop, totalPerDrop: total / drops, mainUserPerDrop: mainUser, mainSystemPerDrop: mainSystem, otherThreadsPerDrop: Object.fromEntries(threadNames), processPerDrop }))
+    console.log(JSON.stringify({ drops, settled, ticks, window: [before.at, after.at], commitMs: commit, perDrop, totalPerDrop: total / drops, mainUserPerDrop: mainUser, mainSystemPerDrop: mainSystem, otherThreadsPerDrop: Object.fromEntries(threadNames), processPerDrop }))
     return
   }
   console.log(`\nDrop path: ${int(drops)} drops (${int(settled)} settled), ${options.rooms} rooms × ${options.perRoom} players, delivery ${options.delivery}, SQLite WAL + synchronous=FULL, one transaction per tick\n`)
@@ -219,7 +226,15 @@ function report ({ drops, ticks, before, after, spent, parse }) {
     ]
   ))
   console.log(`\nother threads by name, µs per drop: ${threadNames.map(([name, micros]) => `${name} ${fixed(micros, 1)}`).join(', ')}`)
+  console.log(`each tick's wait for its commit (wall clock, ${int(commitMs.length)} ticks): p50 ${fixed(commit.p50, 2)} ms, p99 ${fixed(commit.p99, 2)} ms, max ${fixed(commit.max, 1)} ms`)
   console.log(`${fixed((after.frames - before.frames) / drops, 2)} frames and ${int((after.bytes - before.bytes) / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
+}
+
+/** p50, p99 and max of `samples` (ms). @param {number[]} samples */
+function latencyFigures (samples) {
+  const sorted = [...samples].sort((a, b) => a - b)
+  const at = (q) => sorted.length === 0 ? 0 : sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))]
+  return { p50: at(0.5), p99: at(0.99), max: sorted.length === 0 ? 0 : sorted[sorted.length - 1] }
 }
 
 /** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */

@@ -3,14 +3,12 @@ import path from 'node:path'
 import { DatabaseSync } from 'node:sqlite'
 
 /**
- * Pages the WAL may hold before a commit copies them into the database
- * (SQLite's automatic checkpoint; its default is 1,000). A tick's
- * transaction writes about 100 pages, mostly the same hot ones (players,
- * seeds, the ends of the drops indexes): a checkpoint copies each page once
- * however often it was written since the last, so checkpointing a tenth as
- * often copies far fewer pages per drop (the writer thread's CPU per drop
- * fell by about a tenth, loadtest/RESULTS.md). The WAL file grows to about
- * 40 MB (4 KiB pages) and stays that size.
+ * Pages the WAL may hold before a commit on a connection that checkpoints
+ * by itself copies them into the database (SQLite's automatic checkpoint;
+ * its default is 1,000): the store's own connection (migrations, and every
+ * write of an in-memory ledger). The writer thread's connection does not
+ * checkpoint at all: the checkpoint thread does, beside it
+ * (sqlite-checkpoint-thread.js), so that no commit waits for one.
  */
 export const WAL_AUTOCHECKPOINT_PAGES = 10_000
 
@@ -19,13 +17,16 @@ export const WAL_AUTOCHECKPOINT_PAGES = 10_000
  * it, on Node's own SQLite (`node:sqlite`, no native addon): WAL journal
  * with synchronous=FULL (a committed transaction survives a power cut),
  * foreign keys on, a 16 MB page cache, a checkpoint every
- * WAL_AUTOCHECKPOINT_PAGES, and a busy timeout, since the
- * store's connection (reads, migrations) and its writer thread's take turns.
+ * WAL_AUTOCHECKPOINT_PAGES (or none, for the writer thread), and a busy
+ * timeout, since the store's connection (reads, migrations) and its writer
+ * thread's take turns.
  * @param {string} file path or ':memory:'
- * @param {{ busyTimeoutMs?: number }} [options] how long a write waits for another connection's lock (default 5 s)
+ * @param {{ busyTimeoutMs?: number, autoCheckpoint?: boolean }} [options] busyTimeoutMs: how long a
+ *   write waits for another connection's lock (default 5 s); autoCheckpoint false: this
+ *   connection's commits never checkpoint (the checkpoint thread does)
  * @returns {DatabaseSync}
  */
-export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
+export function openSqliteDatabase (file, { busyTimeoutMs = 5000, autoCheckpoint = true } = {}) {
   if (file !== ':memory:') {
     try {
       fs.mkdirSync(path.dirname(file), { recursive: true })
@@ -43,7 +44,7 @@ export function openSqliteDatabase (file, { busyTimeoutMs = 5000 } = {}) {
     // every commit then re-reads their pages: 16 MB per connection, as
     // better-sqlite3 had (see docs/troubleshooting.md, the driver figures).
     db.exec('PRAGMA cache_size = -16000')
-    db.exec(`PRAGMA wal_autocheckpoint = ${WAL_AUTOCHECKPOINT_PAGES}`)
+    db.exec(`PRAGMA wal_autocheckpoint = ${autoCheckpoint ? WAL_AUTOCHECKPOINT_PAGES : 0}`)
   } catch (error) {
     db?.close()
     throw cannotOpen(file, withSqliteCode(error))

@@ -6,6 +6,7 @@ import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
 import { gameError } from '../errors.js'
 import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
+import { SqliteCheckpointer } from './sqlite-checkpoint-thread.js'
 
 /**
  * The ledger on SQLite (Node's `node:sqlite`): WAL journal with synchronous=FULL,
@@ -20,8 +21,11 @@ import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
  * @implements {import('./ledger-store.js').LedgerStore}
  */
 export class SqliteStore {
-  /** @param {{ file: string, busyTimeoutMs?: number }} options file path or ':memory:' */
-  constructor ({ file, busyTimeoutMs }) {
+  /**
+   * @param {{ file: string, busyTimeoutMs?: number, checkpointIntervalMs?: number }} options file: path
+   *   or ':memory:'; checkpointIntervalMs: how often the checkpoint thread copies the WAL into the file
+   */
+  constructor ({ file, busyTimeoutMs, checkpointIntervalMs }) {
     this.kind = 'sqlite'
     // Room to start and settle on a full disk (disk-reserve.js).
     this.reserve = file === ':memory:' ? null : new DiskReserve(`${file}.reserve`)
@@ -30,6 +34,10 @@ export class SqliteStore {
     if (this.reserve) checkpointLeftoverWal(this.db)
     this._statements = new Map()
     this._writer = file === ':memory:' ? null : new SqliteWriter(file, { busyTimeoutMs })
+    // The writer's commits never checkpoint; this thread does, beside them (sqlite-checkpoint-thread.js).
+    this.checkpointer = file === ':memory:'
+      ? null
+      : new SqliteCheckpointer(file, { intervalMs: checkpointIntervalMs, nice: WRITER_THREAD_NICE, busyTimeoutMs, finish: () => this._finishCheckpoint() })
     this._writesHere = null
   }
 
@@ -40,6 +48,7 @@ export class SqliteStore {
         this._writesHere ??= prepareWrites(this.db)
         return this._writesHere[op](args)
       }
+      this.checkpointer.start()
       const result = await this._writer.run(op, args)
       this.reserve?.restore()
       return result
@@ -49,6 +58,11 @@ export class SqliteStore {
       if (error.code === 'SQLITE_BUSY') throw gameError('E_UNAVAILABLE', 'the ledger is busy (another process holds its write lock); try again shortly', { cause: error })
       throw error
     }
+  }
+
+  /** The writer copies what the checkpoint thread's pass left (a failure: the next pass tries again). */
+  _finishCheckpoint () {
+    this._writer.run('checkpoint').catch(() => {})
   }
 
   /** Cached prepared statement. @param {string} sql */
@@ -148,6 +162,8 @@ export class SqliteStore {
   }
 
   async close () {
+    // The checkpoint thread first: it asks the writer for work, and the writer's close waits for what it was given.
+    await this.checkpointer?.close()
     await this._writer?.close()
     await this.reserve?.idle()
     if (this.db.isOpen) this.db.close()

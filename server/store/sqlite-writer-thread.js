@@ -1,6 +1,7 @@
 /**
  * The SQLite ledger's writer thread: the ledger's writes as transactions
- * (prepareWrites: the tick's batches, new players, seed rotations), and the
+ * (prepareWrites: the tick's batches, new players, seed rotations, and the
+ * end of a checkpoint), and the
  * thread that runs them on a connection of its own (the store starts it:
  * SqliteWriter in sqlite-store.js). It runs the writes it is sent one at a
  * time, each durable (synchronous=FULL) before it answers with the write's
@@ -9,7 +10,7 @@
  * whole busy timeout).
  *
  * The thread runs at a lower priority than the event loop (its nice
- * value): on a busy core its bursts of page writes and checkpoints wait for
+ * value): on a busy core its bursts of page writes wait for
  * the tick instead of delaying it (see loadtest/RESULTS.md, "the writer
  * thread's priority"). Imported anywhere else (an in-memory store runs the
  * same transactions on its own connection), this file starts no thread.
@@ -18,6 +19,7 @@ import { isMainThread, parentPort, workerData } from 'node:worker_threads'
 import { wholeBatchCommitted, DROP_SQL, newDropValues, settlementValues } from './records.js'
 import { openSqliteDatabase, withSqliteCode } from './sqlite-database.js'
 import { lowerThisThreadPriority } from './thread-priority.js'
+import { checkpointPassive } from './sqlite-checkpoint-thread.js'
 
 /**
  * Every write of the SQLite ledger, as transactions prepared on one
@@ -70,7 +72,13 @@ export function prepareWrites (db) {
     rotateSeed: ({ playerId, oldSeedId, newSeed, at }) => immediateTransaction(db, () => {
       if (retireSeed.run(at, oldSeedId, playerId).changes !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
       insertSeed.run(newSeed.id, playerId, newSeed.seed, newSeed.hash, at)
-    })
+    }),
+    /**
+     * Copies what the checkpoint thread's last pass left in the WAL (the
+     * frames committed while it ran): between two batches, with no write
+     * beside it, so it copies all and the next commit starts the WAL over.
+     */
+    checkpoint: () => checkpointPassive(db)
   }
 }
 
@@ -101,7 +109,7 @@ export function immediateTransaction (db, work) {
 }
 
 /** The names of the writes prepareWrites() returns (what the writer thread accepts). */
-export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed'])
+export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed', 'checkpoint'])
 
 /** The key of the thread's workerData (SqliteWriter in sqlite-store.js sets it): this file was started as the writer thread. */
 export const WRITER_THREAD_DATA = 'plinkoSqliteWriter'
@@ -114,7 +122,8 @@ export const WRITER_THREAD_DATA = 'plinkoSqliteWriter'
  */
 function runWriterThread ({ file, busyTimeoutMs, nice }) {
   if (nice > 0) lowerThisThreadPriority(nice)
-  const db = openSqliteDatabase(file, { busyTimeoutMs })
+  // Its commits never checkpoint: the checkpoint thread does (sqlite-checkpoint-thread.js).
+  const db = openSqliteDatabase(file, { busyTimeoutMs, autoCheckpoint: false })
   const writes = prepareWrites(db)
   parentPort.on('message', (message) => {
     if (message.type === 'close') {

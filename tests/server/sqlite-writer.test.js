@@ -6,7 +6,6 @@ import { DatabaseSync } from 'node:sqlite'
 import { Worker } from 'node:worker_threads'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
 import { WRITER_THREAD_NICE } from '../../server/store/sqlite-store.js'
-import { WAL_AUTOCHECKPOINT_PAGES } from '../../server/store/sqlite-database.js'
 
 /** Nice value of every thread of this process, by thread id (Linux /proc). */
 const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
@@ -25,7 +24,7 @@ let dir, file, store
 beforeEach(async () => {
   dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-writer-'))
   file = path.join(dir, 'ledger.sqlite')
-  store = new SqliteStore({ file })
+  store = new SqliteStore({ file, checkpointIntervalMs: 100 })
   await store.migrate()
   await store.createPlayer({ id: 'p1', tokenHash: 'h1', balance: 1000, clientSeed: 'c', createdAt: 1, seed: { id: 's1', seed: 'a'.repeat(64), hash: 'b'.repeat(64) } })
 })
@@ -37,6 +36,13 @@ afterEach(async () => {
 
 const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: 0, createdAt: 2 })
 const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, nonces: [{ seedId: 's1', nextNonce: 100 }], clientSeeds: [] })
+/** What the database file holds without its WAL: a copy of the file alone, read. */
+const databaseFileAlone = (sql) => {
+  const copy = path.join(dir, 'alone.sqlite')
+  fs.copyFileSync(file, copy)
+  const db = new DatabaseSync(copy, { readOnly: true })
+  try { return db.prepare(sql).all() } finally { db.close(); fs.rmSync(copy) }
+}
 /** Reads the file through a connection of its own, as another process would. */
 const read = (sql) => { const db = new DatabaseSync(file, { readOnly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
 
@@ -50,12 +56,13 @@ describe('SQLite writer thread', () => {
     expect((await store.listInFlightDrops()).map((d) => d.id)).toEqual([1, 2])
   })
 
-  it.runIf(fs.existsSync('/proc/thread-self'))('runs below the event loop\'s priority, and only that thread does', async () => {
+  it.runIf(fs.existsSync('/proc/thread-self'))('runs below the event loop\'s priority, and only its two threads (writer, checkpoint) do', async () => {
     const thisThread = Number(fs.readlinkSync('/proc/thread-self').split('/').pop())
     const before = threadNices().get(thisThread)
     await store.commitBatch(batch([drop(1)]))
+    await store.checkpointer.nextCheckpoint()
     const nices = threadNices()
-    expect([...nices.values()].filter((nice) => nice === WRITER_THREAD_NICE)).toHaveLength(1)
+    expect([...nices.values()].filter((nice) => nice === WRITER_THREAD_NICE)).toHaveLength(2)
     expect(nices.get(thisThread)).toBe(before)
     expect(before).not.toBe(WRITER_THREAD_NICE)
   })
@@ -71,15 +78,58 @@ describe('SQLite writer thread', () => {
     expect(read('SELECT id FROM drops ORDER BY id')).toEqual([{ id: 1 }, { id: 3 }])
   })
 
-  it(`checkpoints once the WAL holds ${WAL_AUTOCHECKPOINT_PAGES} pages, not at SQLite's default 1,000`, async () => {
+  it('never checkpoints in a commit: the WAL grows past SQLite\'s default 1,000 pages with nothing copied', async () => {
+    await store.close()
+    store = new SqliteStore({ file, checkpointIntervalMs: 3_600_000 })
     const walPages = () => (fs.statSync(`${file}-wal`).size - 32) / (4096 + 24)
     for (let id = 1; walPages() <= 1200; id++) {
       expect(id, 'the WAL grows past 1,200 pages').toBeLessThan(2000)
       await store.commitBatch(batch([{ ...drop(id), nonce: id }]))
     }
-    // Had it been checkpointed at 1,000 pages, the next commit would have started it over from its first page.
-    expect(walPages()).toBeLessThan(WAL_AUTOCHECKPOINT_PAGES)
+    // Had a commit checkpointed at 1,000 pages, the next would have started the WAL over from its first page.
+    expect(walPages()).toBeGreaterThan(1200)
+    expect(databaseFileAlone('SELECT COUNT(*) AS n FROM drops')).toEqual([{ n: 0 }])
     expect(read('SELECT COUNT(*) AS n FROM drops')[0].n).toBeGreaterThan(100)
+  })
+
+  it('copies the WAL into the database on its checkpoint thread, and the next commits reuse the WAL from its start', async () => {
+    await store.close()
+    store = new SqliteStore({ file, checkpointIntervalMs: 50 })
+    for (let id = 1; id <= 200; id++) await store.commitBatch(batch([{ ...drop(id), nonce: id }]))
+    // A checkpoint that ran while commits came in may have stopped short of the last: the next one, with none coming, copies all.
+    await store.checkpointer.nextCheckpoint()
+    const outcome = await store.checkpointer.nextCheckpoint()
+    expect(outcome.busy).toBe(0)
+    expect(outcome.walPages).toBeGreaterThan(0)
+    expect(outcome.copiedPages).toBe(outcome.walPages)
+    // The database file alone, without its WAL, now holds every committed drop.
+    expect(databaseFileAlone('SELECT COUNT(*) AS n FROM drops')).toEqual([{ n: 200 }])
+    const walBytes = fs.statSync(`${file}-wal`).size
+    for (let id = 201; id <= 210; id++) await store.commitBatch(batch([{ ...drop(id), nonce: id }]))
+    expect(fs.statSync(`${file}-wal`).size, 'the WAL was started over, not grown').toBe(walBytes)
+    expect(read('SELECT COUNT(*) AS n FROM drops')).toEqual([{ n: 210 }])
+  })
+
+  it('keeps the WAL from growing while commits come in during every pass: after each, the writer copies what came in', async () => {
+    await store.close()
+    store = new SqliteStore({ file, checkpointIntervalMs: 3_600_000 })
+    const finished = []
+    const finish = store.checkpointer.finish
+    store.checkpointer.finish = () => { finished.push(store.checkpointer.last); finish() }
+    const walPages = () => (fs.statSync(`${file}-wal`).size - 32) / (4096 + 24)
+    let id = 1
+    const commits = async (n) => { for (let k = 0; k < n; k++, id++) await store.commitBatch(batch([{ ...drop(id), nonce: id }])) }
+    await commits(20)
+    for (let cycle = 0; cycle < 30; cycle++) {
+      // A pass, and commits while it runs, then more before the next one.
+      await Promise.all([store.checkpointer.checkpointNow(), commits(5)])
+      await commits(15)
+    }
+    expect(finished).toHaveLength(30)
+    // Each commit writes at least three pages (the drop's, its index's, the nonce's): 620 commits, never
+    // started over, would leave the WAL at 1,860 pages or more; started over after each pass, about a cycle's.
+    expect(walPages()).toBeLessThan(400)
+    expect(read('SELECT COUNT(*) AS n FROM drops')).toEqual([{ n: id - 1 }])
   })
 
   it('starts the writer only where the store asked for it: imported by another thread (an in-memory store), its file runs nothing', async () => {
@@ -89,7 +139,7 @@ describe('SQLite writer thread', () => {
     const worker = new Worker(code, { eval: true, workerData: { something: 'else' } })
     const reply = await new Promise((resolve, reject) => { worker.once('message', resolve); worker.once('error', reject) })
     await worker.terminate()
-    expect(reply).toEqual({ listeners: 0, writes: ['commitBatch', 'createPlayer', 'rotateSeed'] })
+    expect(reply).toEqual({ listeners: 0, writes: ['commitBatch', 'createPlayer', 'rotateSeed', 'checkpoint'] })
     // The in-memory store runs the same transactions on its own connection.
     const memory = new SqliteStore({ file: ':memory:' })
     await memory.migrate()
