@@ -37,6 +37,10 @@ export function installProbe (page) {
       return t ? { ...t.stats, delayMs: t.delayMs, jitterMs: t.jitterMs, ticksPerSecond: t.rate * 1000 } : null
     },
     get frames () { return renderer.frames },
+    /** 'worker' (OffscreenCanvas) or 'main': where the board is drawn */
+    get boardDrawnIn () { return renderer.drawnIn },
+    /** The board's pixels as drawn: { width, height, data } (device px, RGBA), read where it is drawn. */
+    boardPixels: () => renderer.pixels(),
     get warnings () { return page.notices.warnings.slice() },
     /** balls drawn in the last frame, and how many of them no announcement explains */
     get lastFrame () { return { ...loop.lastFrame } },

@@ -75,7 +75,7 @@ function buildPage () {
   const page = /** @type {PlayerPage} */ ({
     session,
     verifier,
-    renderer: new BoardRenderer(byId('board'), { maxHeight: boardMaxHeight }),
+    renderer: new BoardRenderer(byId('board'), { maxHeight: boardMaxHeight, worker: boardWorkerUrl() }),
     notices,
     account: new PlayerAccount(),
     snapshotChecks: { positions: 0, mismatches: 0, unknown: 0 },
@@ -107,6 +107,17 @@ function buildPage () {
  */
 function boardMaxHeight () {
   return matchMedia('(min-width: 900px)').matches ? window.innerHeight - 5.5 * 16 : window.innerHeight * 0.72
+}
+
+/**
+ * Where the board is drawn: board-worker.js, as the page's <meta
+ * name="board-worker"> names it (the server's bundle, with its version),
+ * so the drawing's rasterising leaves the main thread; `?board=main`
+ * draws on the main thread instead (as browsers without OffscreenCanvas do).
+ */
+function boardWorkerUrl () {
+  if (new URLSearchParams(location.search).get('board') === 'main') return null
+  return document.querySelector('meta[name="board-worker"]')?.content ?? new URL('./board-worker.js', import.meta.url)
 }
 
 /** @param {PlayerPage} page */

@@ -33,6 +33,8 @@ export class RenderLoop {
 
   frame (now) {
     const { connection: { view, timeline }, renderer } = this.page
+    // The first frame drawn (in a worker, answered after this frame's task), whether or not anything moves now.
+    if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
     let poses = []
     if (view && timeline) {
       const tick = timeline.advance(now)

@@ -1,7 +1,7 @@
 #!/usr/bin/env node
 /**
  * What drawing a busy room costs the player page:
- * `node scripts/page-frame-cost.js [--seconds 10] [--delivery seeds,snapshots]`.
+ * `node scripts/page-frame-cost.js [--seconds 10] [--delivery seeds,snapshots] [--board worker|main]`.
  *
  * Starts the real server (SQLite in a temporary folder), opens the player
  * page in headless Chromium (CHROMIUM_PATH, default /usr/bin/chromium)
@@ -15,7 +15,10 @@
  * and the frames drawn, and prints main-thread ms per animation frame, the
  * JavaScript part of it, the seeds simulation's part (SeededRoom.posesAt:
  * stepping every ball and its pose) and frames per second, at 1366×800
- * and at 390×844 (DPR 2, mobile), in both delivery modes.
+ * and at 390×844 (DPR 2, mobile), in both delivery modes. The board is
+ * drawn in a worker (OffscreenCanvas), whose time is not the main
+ * thread's; frames are those the worker drew. `--board main` draws it on
+ * the main thread instead (the page's fallback, `?board=main`).
  * Figures go to docs/client.md.
  */
 import fs from 'node:fs'
@@ -33,13 +36,15 @@ const { values } = parseArgs({
     seconds: { type: 'string', default: '10' },
     delivery: { type: 'string', default: 'seeds,snapshots' },
     balls: { type: 'string', default: '30,100' },
-    throttle: { type: 'string', default: '4' }
+    throttle: { type: 'string', default: '4' },
+    board: { type: 'string', default: 'worker' }
   }
 })
 const SECONDS = Number(values.seconds)
 const DELIVERIES = values.delivery.split(',')
 const BALLS = values.balls.split(',').map(Number)
 const THROTTLE = Number(values.throttle)
+const BOARD = values.board
 const ROOM = '16-medium'
 const BOTS = 8
 const SIZES = [
@@ -69,7 +74,7 @@ try {
   fs.rmSync(dir, { recursive: true, force: true })
 }
 
-console.log(`player page, headless Chromium, CPU throttled ${THROTTLE}×, room ${ROOM}, ${SECONDS} s steady window each; mean flight ${flightSeconds.toFixed(2)} s`)
+console.log(`player page, headless Chromium, CPU throttled ${THROTTLE}×, room ${ROOM}, board drawn in ${BOARD === 'main' ? 'the main thread' : 'a worker'}, ${SECONDS} s steady window each; mean flight ${flightSeconds.toFixed(2)} s`)
 console.log('delivery   viewport        balls (target, drawn)  main thread ms/frame  of it JS  of it simulation  fps    frames')
 for (const r of rows) {
   console.log(`${r.delivery.padEnd(9)}  ${r.size.padEnd(14)}  ${String(r.target).padStart(6)}, ${r.drawn.toFixed(1).padStart(6)}         ${r.msPerFrame.toFixed(2).padStart(8)}         ${r.scriptMsPerFrame.toFixed(2).padStart(6)}    ${r.simMsPerFrame === null ? '     –' : r.simMsPerFrame.toFixed(2).padStart(6)}            ${r.fps.toFixed(1).padStart(5)}  ${String(r.frames).padStart(6)}`)
@@ -117,8 +122,10 @@ function dropAtRate (bots, perSecond) {
 async function measure (base, bots, delivery, size, balls) {
   const context = await browser.newContext(size.options)
   const page = await context.newPage()
-  await page.goto(`${base}/?delivery=${delivery}`)
+  await page.goto(`${base}/?delivery=${delivery}${BOARD === 'main' ? '&board=main' : ''}`)
   await page.waitForFunction(() => window.__plinko?.ready === true, null, { timeout: 60_000 })
+  const drawnIn = await page.evaluate(() => window.__plinko.boardDrawnIn)
+  if (drawnIn !== BOARD) throw new Error(`the board is drawn in ${drawnIn}, not ${BOARD}`)
   const cdp = await context.newCDPSession(page)
   await cdp.send('Performance.enable')
   await cdp.send('Emulation.setCPUThrottlingRate', { rate: THROTTLE })

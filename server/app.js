@@ -148,7 +148,7 @@ async function startGame (app, config, options) {
 /** Security headers, compression, the HTTP rate limit and WebSockets (which close after the arena). */
 async function registerPlugins (app, { config, arena, addressLimits }) {
   await app.register(helmet, {
-    contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
+    contentSecurityPolicy: { directives: { upgradeInsecureRequests: null, imgSrc: ["'self'", 'data:'], workerSrc: ["'self'"], scriptSrc: ["'self'", ...inlineScriptHashes(config.clientDir)] } }
   })
   // Pages, modules and JSON compressed (a page load is ~290 KB of plain modules; ~4× less compressed).
   // Brotli at quality 5: most of quality 11's ratio at a fraction of its CPU, for every reply.

@@ -24,6 +24,7 @@ const SEEDRANDOM_FILE = require.resolve('seedrandom/seedrandom.js')
  *   GET /charts/PATH.js        the repository's charts/ files (the SVG writer the operator page's charts share with the CLI)
  *   GET /vendor/seedrandom.js  seedrandom as an ES module
  *   GET /bundle/player.js      the player page's whole module graph in one file (page-bundle.js)
+ *   GET /bundle/board-worker.js the worker that draws its board (board-worker.js's modules, bundled alike)
  * and the pages themselves (/, /audit, /share/:id/:token), whose links to
  * the bundle, the stylesheet and the icon carry a version (?v=, a hash of
  * the file's content). The pages map the engine's one bare import,
@@ -65,20 +66,20 @@ export default async function clientAssetRoutes (app, { clientDir }) {
 
   // The files the pages link to with a version, and the pages with those links.
   const versioned = {}
-  const entry = path.join(clientDir, 'player.js')
-  if (fs.existsSync(entry)) {
+  // The board's worker first: the player page links to it with its version (index.html's <meta name="board-worker">).
+  for (const [url, name, summary] of [['/bundle/board-worker.js', 'board-worker.js', "The worker that draws the player page's board (its modules in one file)"], ['/bundle/player.js', 'player.js', "The player page's modules (engine, protocol, page) in one file"]]) {
+    const entry = path.join(clientDir, name)
+    if (!fs.existsSync(entry)) continue
     let bundle
     try {
       bundle = assetFile(await buildPageBundle(entry, { sharedDirs: SHARED_DIRS, seedrandom: SEEDRANDOM_FILE }), JS)
     } catch (error) {
       // The page still works, one module at a time, if the bundle cannot be built.
-      app.log.error({ err: error }, 'could not bundle the player page; serving its modules one by one')
-      bundle = assetFile("import '/player.js'\n", JS)
+      app.log.error({ err: error }, `could not bundle ${name}; serving its modules one by one`)
+      bundle = assetFile(`import '/${name}'\n`, JS)
     }
-    versioned['/bundle/player.js'] = bundle
-    app.get('/bundle/player.js', { ...asset, schema: { summary: "The player page's modules (engine, protocol, page) in one file" } }, (request, reply) => {
-      return sendAsset(request, reply, bundle)
-    })
+    versioned[url] = bundle
+    app.get(url, { ...asset, schema: { summary } }, (request, reply) => sendAsset(request, reply, bundle))
   }
 
   for (const [url, name, type] of [['/style.css', 'style.css', 'text/css; charset=utf-8'], ['/favicon.svg', 'favicon.svg', 'image/svg+xml']]) {

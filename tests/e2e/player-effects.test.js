@@ -74,39 +74,43 @@ describe('player page: effects and sound', () => {
     await page.context().close()
   })
 
-  it('draws own balls apart from the others\', with trails', async () => {
-    const page = await openPlayer(chromium, server)
-    const other = (await server.api('POST', '/api/session')).body
-    const client = await GameClient.connect(server.wsUrl(other.token))
-    client.send({ type: 'join', room: '16-medium' })
-    await client.take('joined')
-    client.send({ type: 'drop', bet: 5 })
-    await page.click('#drop')
-    const frame = await waitInPage(page, 'own and another player\'s ball in one frame', () => {
-      const f = window.__plinko.lastFrame
-      return f.mine >= 1 && f.balls - f.mine >= 1 && f
+  // In a worker on an OffscreenCanvas (Chromium's path), and on the main thread (browsers without it: ?board=main), by the same drawing code.
+  for (const where of ['worker', 'main']) {
+    it(`draws own balls apart from the others', with trails (the board drawn in ${where === 'worker' ? 'a worker' : 'the main thread'})`, async () => {
+      const page = await openPlayer(chromium, server, { path: where === 'worker' ? '/' : '/?board=main' })
+      expect(await page.evaluate(() => window.__plinko.boardDrawnIn)).toBe(where)
+      const other = (await server.api('POST', '/api/session')).body
+      const client = await GameClient.connect(server.wsUrl(other.token))
+      client.send({ type: 'join', room: '16-medium' })
+      await client.take('joined')
+      client.send({ type: 'drop', bet: 5 })
+      await page.click('#drop')
+      const frame = await waitInPage(page, 'own and another player\'s ball in one frame', () => {
+        const f = window.__plinko.lastFrame
+        return f.mine >= 1 && f.balls - f.mine >= 1 && f
+      })
+      expect(frame.unknown).toBe(0)
+      // Own balls are warm (pink halo), the others' cool: both colours are on the canvas at once.
+      // Read where the board is drawn (the worker's OffscreenCanvas, or the page's canvas).
+      const colours = await page.evaluate(async () => {
+        const { data } = await window.__plinko.boardPixels()
+        let warm = 0; let cool = 0
+        for (let i = 0; i < data.length; i += 4) {
+          const [r, g, b] = [data[i], data[i + 1], data[i + 2]]
+          if (r > 200 && g < 140 && b > 100 && b < 190) warm++
+          if (b > 150 && r < 150 && g > 110 && g < 170) cool++
+        }
+        return { warm, cool }
+      })
+      expect(colours.warm).toBeGreaterThan(5)
+      expect(colours.cool).toBeGreaterThan(5)
+      await client.take('settled', 60_000)
+      await client.close()
+      expect((await canvasStats(page)).colors).toBeGreaterThan(100)
+      expect(page.problems).toEqual([])
+      await page.context().close()
     })
-    expect(frame.unknown).toBe(0)
-    // Own balls are warm (pink halo), the others' cool: both colours are on the canvas at once.
-    const colours = await page.evaluate(() => {
-      const canvas = document.querySelector('#board')
-      const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height)
-      let warm = 0; let cool = 0
-      for (let i = 0; i < data.length; i += 4) {
-        const [r, g, b] = [data[i], data[i + 1], data[i + 2]]
-        if (r > 200 && g < 140 && b > 100 && b < 190) warm++
-        if (b > 150 && r < 150 && g > 110 && g < 170) cool++
-      }
-      return { warm, cool }
-    })
-    expect(colours.warm).toBeGreaterThan(5)
-    expect(colours.cool).toBeGreaterThan(5)
-    await client.take('settled', 60_000)
-    await client.close()
-    expect((await canvasStats(page)).colors).toBeGreaterThan(100)
-    expect(page.problems).toEqual([])
-    await page.context().close()
-  })
+  }
 
   it('plays no sound before the first gesture; ticks and a landing after it; mute is remembered', async () => {
     const page = await openPlayer(chromium, server)

@@ -41,8 +41,8 @@ describe('client assets', () => {
 
   it('lets browsers keep versioned files for a year without asking again, and compresses each file once', async () => {
     const page = (await server.api('GET', '/')).text
-    const links = [...page.matchAll(/"(\/(?:bundle\/player\.js|style\.css|favicon\.svg))\?v=([\w-]{12})"/g)].map((m) => ({ url: m[1], version: m[2] }))
-    expect(links.map((l) => l.url).sort()).toEqual(['/bundle/player.js', '/favicon.svg', '/style.css'])
+    const links = [...page.matchAll(/"(\/(?:bundle\/player\.js|bundle\/board-worker\.js|style\.css|favicon\.svg))\?v=([\w-]{12})"/g)].map((m) => ({ url: m[1], version: m[2] }))
+    expect(links.map((l) => l.url).sort()).toEqual(['/bundle/board-worker.js', '/bundle/player.js', '/favicon.svg', '/style.css'])
     for (const { url, version } of links) {
       const current = await server.api('GET', `${url}?v=${version}`)
       expect(current.status, url).toBe(200)
@@ -50,7 +50,7 @@ describe('client assets', () => {
       // Another version (an old page's link), or none: revalidated, never kept.
       for (const other of [`${url}?v=000000000000`, url]) expect((await server.api('GET', other)).headers['cache-control'], other).toBe('no-cache')
       // The version is the content's: the file's own bytes.
-      if (url !== '/bundle/player.js') expect(current.text, url).toBe(readFileSync(`${CLIENT_DIR}/${url.slice(1)}`, 'utf8'))
+      if (!url.startsWith('/bundle/')) expect(current.text, url).toBe(readFileSync(`${CLIENT_DIR}/${url.slice(1)}`, 'utf8'))
     }
     // Compressed once: the same Brotli bytes each time, sent whole with their length (not streamed through a compressor per request).
     const http = await import('node:http')
@@ -61,7 +61,7 @@ describe('client assets', () => {
         response.on('end', () => resolve({ headers: response.headers, body: Buffer.concat(chunks) }))
       }).on('error', reject)
     })
-    for (const url of ['/bundle/player.js', '/engine/world.js', '/']) {
+    for (const url of ['/bundle/player.js', '/bundle/board-worker.js', '/engine/world.js', '/']) {
       const [first, second] = [await raw(url), await raw(url)]
       expect(first.headers['content-encoding'], url).toBe('br')
       expect(Number(first.headers['content-length']), url).toBe(first.body.length)
@@ -188,5 +188,20 @@ describe('client assets', () => {
     expect(modules).toEqual(expect.arrayContaining(['client/room-connection.js', 'client/drop-results.js', 'client/bet-controls.js', 'client/auto-bet-controls.js', 'client/verification-view.js', 'client/render-loop.js', 'client/player-account.js', 'client/page-notices.js', 'client/page-probe.js']))
     expect(modules).toEqual(expect.arrayContaining(['client/player.js', 'engine/world.js', 'engine/versions/engine-1.0.0.js', 'engine/versions/engine-2.0.0.js', 'protocol/snapshot-codec.js', 'node_modules/seedrandom/seedrandom.js']))
     expect(bundle).not.toMatch(/^import\s/m) // nothing left to fetch
+  })
+
+  it('serves the worker that draws the board in one module too, and lets the pages start workers from this origin only', async () => {
+    const page = await server.api('GET', '/')
+    const [, url] = /<meta name="board-worker" content="([^"]+)">/.exec(page.text)
+    expect(url).toMatch(/^\/bundle\/board-worker\.js\?v=[\w-]{12}$/)
+    const response = await fetch(`${server.base}${url}`)
+    expect(response.status).toBe(200)
+    expect(response.headers.get('content-type')).toMatch(/^text\/javascript/)
+    const bundle = await response.text()
+    const modules = [...bundle.matchAll(/^\/\/ (\S+\.js)$/gm)].map((m) => m[1])
+    expect(modules).toEqual(expect.arrayContaining(['client/board-worker.js', 'client/board-painter.js', 'client/board-geometry.js', 'client/pose-frame.js']))
+    expect(bundle).not.toMatch(/^import\s/m)
+    const csp = page.headers['content-security-policy'].split(';').map((d) => d.trim())
+    expect(csp).toContain("worker-src 'self'")
   })
 })

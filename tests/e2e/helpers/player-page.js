@@ -94,18 +94,25 @@ export async function setClientSeed (page, clientSeed) {
   await waitInPage(page, 'the client seed to be set', (seed) => document.querySelector('#message').textContent.includes(seed), clientSeed)
 }
 
-/** Distinct colours and bright pixels read back from a canvas. */
+/**
+ * Distinct colours and bright pixels read back from a canvas (device px):
+ * the board's from where it is drawn (window.__plinko.boardPixels: the
+ * worker's OffscreenCanvas, which the page itself cannot read), any other
+ * canvas's with getImageData.
+ */
 export function canvasStats (page, selector = '#board') {
-  return page.evaluate((selector) => {
+  return page.evaluate(async (selector) => {
     const canvas = document.querySelector(selector)
-    const { data } = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height)
+    const { width, height, data } = selector === '#board'
+      ? await window.__plinko.boardPixels()
+      : { width: canvas.width, height: canvas.height, data: canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data }
     const colors = new Set()
     let bright = 0
     for (let i = 0; i < data.length; i += 4) {
       colors.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2])
       if (data[i] + data[i + 1] + data[i + 2] > 600) bright++
     }
-    return { width: canvas.width, height: canvas.height, colors: colors.size, bright }
+    return { width, height, colors: colors.size, bright }
   }, selector)
 }
 
