@@ -49,7 +49,7 @@ export function paintedBoard (board) {
 
 /**
  * @typedef {object} PaintFrame
- * @property {Float32Array} poses the balls (pose-frame.js)
+ * @property {Float64Array} poses the balls (pose-frame.js)
  * @property {number} count how many
  * @property {number} now ms, the main thread's frame time
  * @property {boolean} reducedMotion no trails

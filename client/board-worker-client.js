@@ -21,7 +21,7 @@ export class WorkerBoard {
     this.worker = new Worker(url, { type: 'module' })
     const offscreen = canvas.transferControlToOffscreen()
     this.worker.postMessage({ type: 'canvas', canvas: offscreen }, [offscreen])
-    /** @type {Float32Array[]} pose buffers back from the worker */
+    /** @type {Float64Array[]} pose buffers back from the worker */
     this._spare = []
     /** @type {any[]} effect commands for the next frame */
     this._commands = []

@@ -34,7 +34,7 @@ describe('pose frame', () => {
       for (let p = 0; p < out[b * STRIDE + 5]; p++) points.push([out[b * STRIDE + 6 + 2 * p], out[b * STRIDE + 7 + 2 * p]])
       return points
     }
-    expect(ball(0)).toEqual([301.5, 602.25, Math.fround(3.05), 1, 1, TRAIL_TICKS + 1])
+    expect(ball(0)).toEqual([301.5, 602.25, 3.05, 1, 1, TRAIL_TICKS + 1])
     expect(trail(0)).toEqual(Array.from({ length: TRAIL_TICKS + 1 }, (_, k) => [10 * (30 - k) + 1.5, 20 * (30 - k) + 2.25]))
     // Released a tick ago: the trail reaches back to the drop, no further.
     expect(trail(1)).toEqual([[10, 20], [0, 0]])
