@@ -39,6 +39,7 @@ import { Connection, createMessageParser } from '../server/realtime/connection.j
 import { TokenBucket } from '../server/limits/token-bucket.js'
 import { ROOM_IDS } from '../protocol/room-id.js'
 import { formatTable, fixed, int } from '../cli/text-table.js'
+import { summarize } from './measure.js'
 
 const USAGE = 'usage: node bench/drop-path.js [--drops N (6000)] [--rooms R (100)] [--per-room P (15)] [--delivery seeds|snapshots (seeds)] [--json]'
 const DROP_EVERY_TICKS = 120
@@ -189,7 +190,7 @@ async function sample (metrics, players) {
 }
 
 function report ({ drops, ticks, before, after, spent, parse, commitMs }) {
-  const commit = latencyFigures(commitMs)
+  const commit = summarize(commitMs)
   const main = after.main - before.main
   const mainUser = (after.mainSplit.user - before.mainSplit.user) / drops
   const mainSystem = (after.mainSplit.system - before.mainSplit.system) / drops
@@ -228,13 +229,6 @@ function report ({ drops, ticks, before, after, spent, parse, commitMs }) {
   console.log(`\nother threads by name, µs per drop: ${threadNames.map(([name, micros]) => `${name} ${fixed(micros, 1)}`).join(', ')}`)
   console.log(`each tick's wait for its commit (wall clock, ${int(commitMs.length)} ticks): p50 ${fixed(commit.p50, 2)} ms, p99 ${fixed(commit.p99, 2)} ms, max ${fixed(commit.max, 1)} ms`)
   console.log(`${fixed((after.frames - before.frames) / drops, 2)} frames and ${int((after.bytes - before.bytes) / drops)} bytes handed to sockets per drop; goal: ≤ 100 µs per drop in all`)
-}
-
-/** p50, p99 and max of `samples` (ms). @param {number[]} samples */
-function latencyFigures (samples) {
-  const sorted = [...samples].sort((a, b) => a - b)
-  const at = (q) => sorted.length === 0 ? 0 : sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))]
-  return { p50: at(0.5), p99: at(0.99), max: sorted.length === 0 ? 0 : sorted[sorted.length - 1] }
 }
 
 /** Main-thread CPU µs of parsing `drops` drop frames as Connection._receive does. */
