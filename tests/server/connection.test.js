@@ -121,8 +121,10 @@ describe('Connection backpressure', () => {
 })
 
 describe("the seeds delivery's owner section", () => {
-  /** A seeds feed of a room with no balls, at an event tick. */
-  function seedsRoom (connection) {
+  /** A signed-in connection in a seeds feed of a room with no balls, at an event tick, nothing sent yet. */
+  function seedsRoom () {
+    const { socket, connection, account } = setup()
+    connection.authenticated(account)
     const room = {
       id: '8-low', tick: 15, snapshotPhase: 0, eventEvery: 15, checkEvery: 120, visibleCount: 0, visible: new Uint8Array(0),
       simulator: { world: { bodyCount: 0 } }
@@ -131,14 +133,12 @@ describe("the seeds delivery's owner section", () => {
     feed.clients.add(connection)
     connection.room = room
     connection.feed = feed
-    return { room, feed }
+    socket.sent.length = 0
+    return { socket, connection, room, feed }
   }
 
   it("holds the owner's settled for the room's next frame, and sends held messages first when anything else goes out", () => {
-    const { socket, connection, account } = setup()
-    connection.authenticated(account)
-    const { room, feed } = seedsRoom(connection)
-    socket.sent.length = 0
+    const { socket, connection, room, feed } = seedsRoom()
     const settledA = '{"type":"settled","dropId":1,"balance":12}'
     connection.sendSettled(settledA, room)
     expect(socket.sent).toEqual([]) // held
@@ -170,10 +170,7 @@ describe("the seeds delivery's owner section", () => {
   })
 
   it('writes the owner section in ASCII whatever the text, and a settled from another room goes at once', () => {
-    const { socket, connection, account } = setup()
-    connection.authenticated(account)
-    const { room, feed } = seedsRoom(connection)
-    socket.sent.length = 0
+    const { socket, connection, room, feed } = seedsRoom()
     const text = '{"type":"settled","dropId":1,"ref":"ü→😀"}'
     connection.sendSettled(text, room)
     feed.afterTick(emptyTally())
