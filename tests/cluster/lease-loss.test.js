@@ -32,10 +32,19 @@ describe('cluster: a lease lost with drops in flight', () => {
         await new Promise((resolve) => setTimeout(resolve, 10))
       }
     })()
-    // The lease goes to B: A's expires (here: is deleted) and a player joins the room on B.
+    // The lease goes to B: A's expires and B takes it (here: the lease is handed to B's id at
+    // once; deleting it instead left a window in which A's renewal took an unowned lease back
+    // before B's join came), then a player joins the room on B.
     const redisClient = new Redis(testbed.redis.url)
     try {
-      await redisClient.del('plinko:room:16-high:lease')
+      const nodeIdOf = async (node) => {
+        for (const key of await redisClient.keys('plinko:node:*')) {
+          if (await redisClient.get(key) === node.url) return key.slice('plinko:node:'.length)
+        }
+        return null
+      }
+      const idOfB = await eventually(() => nodeIdOf(b))
+      await redisClient.set('plinko:room:16-high:lease', idOfB, 'PX', LEASE_TTL_MS)
       const bob = await b.session()
       const onB = await connect(b, bob.token)
       expect(await join(onB, '16-high')).toMatchObject({ type: 'joined' })
