@@ -355,6 +355,8 @@ describe('slow and vanished clients', () => {
       return found.length === 5 && found
     })
     const expected = (100000 - 150) * 1000 + rows.reduce((sum, r) => sum + Number(r.payout), 0) // milli-credits
+    // Committed (another connection sees the rows) comes just before the process applies the commit: wait for that too.
+    await eventually(() => server.arena.unsettledDrops === 0)
     const again = await server.connect(token)
     expect(Math.round(again.welcome.balance * 1000)).toBe(expected)
     const history = await server.api('GET', '/api/drops', { token })
