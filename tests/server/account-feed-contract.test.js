@@ -1,5 +1,5 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { MODES, coordinationTestbed, createPlayer } from './helpers/coordination.js'
+import { MODES, coordinationTestbed, itWithOtherProcesses, createPlayer } from './helpers/coordination.js'
 import { AccountBook } from '../../server/game/accounts.js'
 import { newServerSeed } from '../../server/fairness/seeds.js'
 import { toLedgerBatch } from '../../server/game/drop.js'
@@ -59,7 +59,7 @@ describe.each(MODES)('the account feed contract: $name', (entry) => {
     expect(one.account.seed.id).toBe(await activeSeedId(one.store, playerId))
   })
 
-  it.runIf(entry.redis)('reports the balance another process committed for an account held here (onBalanceChanged)', async () => {
+  itWithOtherProcesses(entry)('reports the balance another process committed for an account held here (onBalanceChanged)', async () => {
     const a = await testbed.process()
     const playerId = await createPlayer(a.store, 'balance', 100)
     const here = await holding(playerId, a)
@@ -72,7 +72,7 @@ describe.each(MODES)('the account feed contract: $name', (entry) => {
     expect(here.balanceChanges).toEqual([])
   })
 
-  it.runIf(entry.redis)('ignores anything on the notice channels that is no notice, and goes on delivering', async () => {
+  itWithOtherProcesses(entry)('ignores anything on the notice channels that is no notice, and goes on delivering', async () => {
     const a = await testbed.process()
     const playerId = await createPlayer(a.store, 'garbled', 100)
     const here = await holding(playerId, a)
@@ -97,7 +97,7 @@ describe.each(MODES)('the account feed contract: $name', (entry) => {
     }
   })
 
-  it.runIf(entry.redis)('answers a rotation only once another process holding the account uses the new seed', async () => {
+  itWithOtherProcesses(entry)('answers a rotation only once another process holding the account uses the new seed', async () => {
     const a = await testbed.process()
     const playerId = await createPlayer(a.store, 'rotation')
     const here = await holding(playerId, a)

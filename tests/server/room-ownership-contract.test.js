@@ -1,5 +1,5 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { MODES, coordinationTestbed } from './helpers/coordination.js'
+import { MODES, coordinationTestbed, itWithOtherProcesses } from './helpers/coordination.js'
 import { RoomRegistry } from '../../server/rooms/room-registry.js'
 import { KEYS } from '../../server/cluster/room-directory.js'
 import { eventually } from '../../tools/eventually.js'
@@ -62,7 +62,7 @@ describe.each(MODES)('the room ownership contract: $name', (entry) => {
     expect(process.ownership.owns('10-medium')).toBe(true)
   })
 
-  it.runIf(entry.redis)('refuses a room another process holds with where it runs, and hands it over once released', async () => {
+  itWithOtherProcesses(entry)('refuses a room another process holds with where it runs, and hands it over once released', async () => {
     const [a, b] = [await started(), await started()]
     await a.ownership.claim('12-high')
     a.rooms.getOrCreate('12-high')
@@ -79,7 +79,7 @@ describe.each(MODES)('the room ownership contract: $name', (entry) => {
     expect(b.ownership.owns('12-high')).toBe(true)
   })
 
-  it.runIf(entry.redis)('reports a lease taken by another process through onRoomLost, and owns the room no more', async () => {
+  itWithOtherProcesses(entry)('reports a lease taken by another process through onRoomLost, and owns the room no more', async () => {
     const process = await started()
     await process.ownership.claim('14-low')
     process.rooms.getOrCreate('14-low')

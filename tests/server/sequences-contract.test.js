@@ -1,5 +1,5 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
-import { MODES, coordinationTestbed, createPlayer, takeWhenReady } from './helpers/coordination.js'
+import { MODES, coordinationTestbed, itWithOtherProcesses, createPlayer, takeWhenReady } from './helpers/coordination.js'
 import { toLedgerBatch } from '../../server/game/drop.js'
 
 /**
@@ -57,7 +57,7 @@ describe.each(MODES)('the sequences contract: $name', (entry) => {
     expect(next.sequences.takeNonce(reloaded.seed)).toBeGreaterThan(nonces[1])
   })
 
-  it.runIf(entry.redis)('never hands out one id or nonce twice across two processes on one ledger', async () => {
+  itWithOtherProcesses(entry)('never hands out one id or nonce twice across two processes on one ledger', async () => {
     const [a, b] = [await testbed.process(), await testbed.process()]
     await a.sequences.start()
     await b.sequences.start()

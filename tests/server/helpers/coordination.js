@@ -1,3 +1,4 @@
+import { it } from 'vitest'
 import { createHash } from 'node:crypto'
 import { storeBackend } from './stores.js'
 import { startRedis } from '../../../tools/redis-process.js'
@@ -16,6 +17,16 @@ export const MODES = [
   { name: 'single process', mode: SINGLE_PROCESS, backend: 'sqlite', redis: false },
   { name: 'cluster (Redis, shared PostgreSQL ledger)', mode: CLUSTER, backend: 'postgres', redis: true }
 ]
+
+/**
+ * `it` for a test that needs a second process (only a cluster has one), and
+ * for the single-process mode nothing at all: such a test is not declared
+ * rather than skipped, so every test a run reports was a test that ran.
+ * @param {(typeof MODES)[number]} entry
+ */
+export function itWithOtherProcesses (entry) {
+  return entry.redis ? it : () => {}
+}
 
 const silentLog = { info () {}, warn () {}, error () {}, debug () {}, child () { return silentLog } }
 
