@@ -220,7 +220,9 @@ async function registerMonitoring (app, config, { metrics, arena }) {
 async function monitoringListener (app, config, services) {
   const { port, host } = config.monitoring
   if (port === null) return
-  const monitoring = Fastify({ loggerInstance: app.log.child({ listener: 'monitoring' }), disableRequestLogging: true })
+  // No line per probe or scrape (fastify 5.8+ takes this from a LogController).
+  const logController = new Fastify.LogController({ disableRequestLogging: true })
+  const monitoring = Fastify({ loggerInstance: app.log.child({ listener: 'monitoring' }), logController })
   monitoring.setErrorHandler(replyWithError)
   await registerMonitoring(monitoring, config, services)
   app.decorate('monitoring', monitoring)

@@ -17,9 +17,9 @@ describe('MONITORING_PORT: /api/health and /metrics on a listener of their own',
     await backend.teardown()
   })
 
-  async function serverWith (env) {
+  async function serverWith (env, logStream) {
     await backend.setup()
-    server = await startServer(await backend.newDatabase(), { env })
+    server = await startServer(await backend.newDatabase(), { env, logStream })
     return server
   }
   const publicUrl = () => `http://127.0.0.1:${server.app.server.address().port}`
@@ -57,5 +57,16 @@ describe('MONITORING_PORT: /api/health and /metrics on a listener of their own',
     await serverWith({})
     expect(server.app.monitoring).toBeUndefined()
     expect((await fetch(`${publicUrl()}/api/health`)).status).toBe(200)
+  })
+
+  it('logs no line per probe or scrape there, while the public port logs its requests', async () => {
+    const lines = []
+    await serverWith({ MONITORING_PORT: '0' }, { write: (line) => { lines.push(JSON.parse(line)) } })
+    const requestLines = (listener) => lines.filter((line) => line.req !== undefined && line.listener === listener)
+    for (let i = 0; i < 3; i++) expect((await fetch(`${monitoringUrl()}/api/health`)).status).toBe(200)
+    expect((await fetch(`${monitoringUrl()}/metrics`)).status).toBe(200)
+    expect((await fetch(`${publicUrl()}/api/rooms`)).status).toBe(200)
+    expect(lines.some((line) => line.req?.url === '/api/rooms' && line.listener === undefined)).toBe(true)
+    expect(requestLines('monitoring')).toEqual([])
   })
 })

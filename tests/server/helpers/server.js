@@ -13,15 +13,16 @@ export const TEST_TICK_RATE = 180
 /**
  * A full server on a loopback port over `database`, with test-friendly
  * limits. `env` overrides configuration variables; `wrapStore` may wrap the
- * opened store (to inject failures).
+ * opened store (to inject failures). Silent, unless `logStream` is given:
+ * then the server's JSON log lines (at LOG_LEVEL, `env`'s or info) go there.
  * @param {{ url: string }} database from storeBackend().newDatabase()
- * @param {{ env?: Record<string, string>, wrapStore?: (store: any) => any, tickRate?: number }} [options]
+ * @param {{ env?: Record<string, string>, wrapStore?: (store: any) => any, tickRate?: number, logStream?: { write: (line: string) => void } }} [options]
  */
-export async function startServer (database, { env = {}, wrapStore, tickRate = TEST_TICK_RATE } = {}) {
+export async function startServer (database, { env = {}, wrapStore, tickRate = TEST_TICK_RATE, logStream } = {}) {
   const config = loadConfig({
     DATABASE_URL: database.url,
     OPERATOR_TOKEN,
-    LOG_LEVEL: 'silent',
+    LOG_LEVEL: logStream ? 'info' : 'silent',
     ...LIFTED_LIMITS,
     JOIN_RATE: '1000',
     CLIENT_DIR: '/nonexistent/plinko-client',
@@ -29,7 +30,7 @@ export async function startServer (database, { env = {}, wrapStore, tickRate = T
   })
   let store
   if (wrapStore) store = wrapStore(await openStore(config.database))
-  const app = await buildApp(config, { store, tickRate, logger: false })
+  const app = await buildApp(config, logStream ? { store, tickRate, logOutput: { stream: logStream } } : { store, tickRate, logger: false })
   await app.listen({ port: 0, host: '127.0.0.1' })
   const { port } = app.server.address()
   const clients = []
