@@ -8,6 +8,7 @@ import { deliveryNamed, emptyTally } from './realtime/deliveries.js'
 import { joinedMessage, balanceMessage } from '../protocol/server-messages.js'
 import { toCredits } from './game/money.js'
 import { DESYNC_CHECK_SECONDS } from './realtime/delivery-seeds.js'
+import { HeartbeatSchedule } from './realtime/heartbeat-schedule.js'
 
 /**
  * The game: rooms on one clock and the connections in them. Each tick steps
@@ -52,8 +53,8 @@ export class Arena {
     this.drops = new DropLifecycle({ config, store, accounts: this.accounts, sequences, feed, metrics, log })
     /** The tick's group commit; seed changes and lease releases queue behind the drops in it. */
     this.ledger = this.drops.ledger
-    /** Ping every connection this often (in ticks, from WS_HEARTBEAT_MS) and drop those that did not answer the last ping. */
-    this.heartbeatTicks = Math.max(1, Math.round(config.wsHeartbeatMs * SIMULATION_HZ / 1000))
+    /** Pings each connection every WS_HEARTBEAT_MS (in ticks), a few a tick, and drops those that did not answer the last ping. */
+    this.heartbeats = new HeartbeatSchedule(Math.max(1, Math.round(config.wsHeartbeatMs * SIMULATION_HZ / 1000)))
     this.scheduler = new TickScheduler({ onTick: () => this.tick(), tickRate, maxCatchUp: config.maxCatchUpTicks, metrics, log })
     /** @type {Set<import('./realtime/connection.js').Connection>} */
     this.connections = new Set()
@@ -130,9 +131,7 @@ export class Arena {
     this._count(tally)
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
-    if (this.scheduler.ticks % this.heartbeatTicks === this.heartbeatTicks - 1) {
-      for (const connection of this.connections) connection.heartbeat()
-    }
+    this.heartbeats.tick(this.scheduler.ticks)
   }
 
   /** The tick's frames, counted once (not per socket). @param {import('./realtime/deliveries.js').DeliveryTally} tally */
@@ -148,6 +147,7 @@ export class Arena {
   /** @param {import('./realtime/connection.js').Connection} connection */
   connected (connection) {
     this.connections.add(connection)
+    this.heartbeats.add(connection)
     this.metrics.clients.set(this.connections.size)
   }
 
@@ -155,6 +155,7 @@ export class Arena {
   disconnected (connection) {
     if (connection.room) this.leave(connection)
     this.connections.delete(connection)
+    this.heartbeats.remove(connection)
     this.metrics.clients.set(this.connections.size)
   }
 
