@@ -54,4 +54,16 @@ describe('heartbeat schedule: each connection pinged once per period, the pings 
     expect(terminated.pings).toEqual([0])
     expect(stays.pings).toEqual([0, 1, 2])
   })
+
+  it('keeps only the slots that have connections (an hour\'s period is 216,000 ticks)', () => {
+    const clock = { tick: 0 }
+    const schedule = new HeartbeatSchedule(216_000)
+    const peers = Array.from({ length: 3 }, () => peer(clock))
+    for (const p of peers) schedule.add(p)
+    expect(schedule.slots.size).toBe(3)
+    schedule.remove(peers[1])
+    expect(schedule.slots.size).toBe(2)
+    run(schedule, clock, 0, 3)
+    expect(peers.map((p) => p.pings)).toEqual([[0], [], [2]])
+  })
 })
