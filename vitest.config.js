@@ -17,6 +17,8 @@ export default defineConfig({
     globalSetup: ['tests/preflight.js'],
     testTimeout: 60_000,
     hookTimeout: 120_000,
+    // vitest's summary, then one plain `Tests: N passed, N failed` line.
+    reporters: ['default', './tests/reporters/closing-line.js'],
     pool: 'forks'
   }
 })

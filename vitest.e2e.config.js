@@ -12,6 +12,8 @@ export default defineConfig({
     globalSetup: ['tests/e2e/helpers/preflight.js'],
     testTimeout: 240_000,
     hookTimeout: 360_000,
+    // vitest's summary, then one plain `Tests: N passed, N failed` line.
+    reporters: ['default', './tests/reporters/closing-line.js'],
     pool: 'forks',
     fileParallelism: false
   }
