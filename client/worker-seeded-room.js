@@ -74,6 +74,7 @@ export class WorkerSeededRoom {
     this._seen.add(drop.dropId)
     if (this._seen.size > MAX_SEEN) this._seen.delete(this._seen.values().next().value)
     this.drops.set(drop.dropId, drop)
+    this.stats.drops++
     const { dropId, dropSeed, engineVersion, startTick, slot, mine, player, bet } = drop
     this.worker.seedsAdd({ dropId, dropSeed, engineVersion, startTick, slot, mine, player, bet })
   }
@@ -101,7 +102,9 @@ export class WorkerSeededRoom {
   _report (report) {
     this.balls = report.balls
     this.mineDrawn = report.mine
-    Object.assign(this.stats, report.stats)
+    // Drops are counted here as they are put on the board (the worker's count trails by the messages on their way).
+    const { drops, ...counters } = report.stats
+    Object.assign(this.stats, counters)
     for (const hit of report.pegHits) this.pegHits.push(hit)
     for (const landing of report.landings) {
       const drop = this.drops.get(landing.dropId)
