@@ -75,6 +75,8 @@ export class BoardRenderer {
     const onDrawn = (stats) => this._drawn(stats)
     /** Where the board is drawn: 'worker' or 'main'. */
     this.drawnIn = 'main'
+    /** Called once the worker failed and the board is drawn here instead (a room simulated there must start again here). */
+    this.onFallBack = () => {}
     /** @type {LocalBoard | WorkerBoard} */
     this.target = null
     if (worker && canDrawInWorker(canvas)) {
@@ -112,6 +114,7 @@ export class BoardRenderer {
     this.drawnIn = 'main'
     this._laidOut = null
     this.resize()
+    this.onFallBack()
   }
 
   /** @param {import('/engine/board.js').Board} board */
@@ -329,12 +332,31 @@ export class BoardRenderer {
    * @param {{ trail?: { trajectory: Float64Array, upto: number } }} [extra] a path to draw behind the balls (replays)
    */
   draw (poses, now, extra = {}) {
-    if (!this.board || this._laidOut === undefined || this._laidOut === null) return
+    if (this._startFrame(now)) this.target.frame(poses, now, this.reducedMotion, extra.trail)
+  }
+
+  /**
+   * One frame of a room simulated in the worker (worker-seeded-room.js):
+   * the worker poses the balls at render tick `tick` itself.
+   * @param {number | null} tick @param {number} now ms
+   */
+  drawSeeds (tick, now) {
+    if (this._startFrame(now)) this.target.seedsFrame(tick, now, this.reducedMotion)
+  }
+
+  /** The board where a seeds room can be simulated beside its drawing, or null (drawn on the main thread). */
+  get worker () {
+    return this.target instanceof WorkerBoard ? this.target : null
+  }
+
+  /** Whether a frame can be drawn now (a board laid out); the effects that ended are dropped. */
+  _startFrame (now) {
+    if (!this.board || this._laidOut === undefined || this._laidOut === null) return false
     this.needsDraw = false
     this._drawnAt = now
     this.flashes = this.flashes.filter((f) => now - f.start < FLASH_MS)
     this.floaters = this.floaters.filter((f) => now - f.start < FLOAT_MS)
-    this.target.frame(poses, now, this.reducedMotion, extra.trail)
+    return true
   }
 
   /** A frame was drawn (here or in the worker): what it drew. */

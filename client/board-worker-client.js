@@ -31,9 +31,13 @@ export class WorkerBoard {
     /** @type {Map<number, (image: { width: number, height: number, data: Uint8ClampedArray }) => void>} */
     this._reads = new Map()
     this._nextRead = 1
+    /** Seeds mode: the room simulated in the worker (its generation: reports of an older one are dropped) and who hears its reports. */
+    this._seedsGeneration = 0
+    /** @type {((report: import('./board-worker-room.js').FrameReport) => void) | null} */
+    this._onSeeds = null
     this.worker.onmessage = ({ data }) => {
       if (data.type === 'drawn') this._drawn(data)
-      else if (data.type === 'pixels') {
+      else if (data.type === 'pixels' || data.type === 'seeds-checked') {
         this._reads.get(data.id)?.(data)
         this._reads.delete(data.id)
       }
@@ -59,17 +63,80 @@ export class WorkerBoard {
 
   /** @param {import('./room-view.js').BallPose[]} poses @param {number} now @param {boolean} reducedMotion @param {object} [trail] */
   frame (poses, now, reducedMotion, trail) {
-    let commands = this._commands
-    this._commands = []
-    if (this._waiting) {
-      commands = this._waiting.commands.concat(commands)
-      this._spare.push(this._waiting.poses)
-    }
+    const commands = this._takeCommands()
     const buffer = this._buffer(poses.length)
     const count = packPoses(poses, buffer)
-    const frame = { type: 'frame', poses: buffer, count, now, reducedMotion, trail, commands }
+    this._queue({ type: 'frame', poses: buffer, count, now, reducedMotion, trail, commands })
+  }
+
+  /** The commands started since the last frame, with those of a frame that waits (it is replaced). */
+  _takeCommands () {
+    const commands = this._commands
+    this._commands = []
+    if (!this._waiting) return commands
+    if (this._waiting.poses) this._spare.push(this._waiting.poses)
+    const waiting = this._waiting.commands
+    this._waiting = null
+    return waiting.concat(commands)
+  }
+
+  /** Posts the frame, or keeps it as the one that waits for the worker's answer. */
+  _queue (frame) {
     if (this._inFlight) this._waiting = frame
     else this._post(frame)
+  }
+
+  /**
+   * Seeds mode: the joined room is simulated in the worker from now on
+   * (board-worker-room.js), replacing any room it had; `onReport` hears
+   * each drawn frame's FrameReport.
+   * @param {{ room: string, rows: number, risk: string, engineVersion: string }} spec
+   * @param {(report: import('./board-worker-room.js').FrameReport) => void} onReport
+   */
+  openSeedsRoom (spec, onReport) {
+    this._seedsGeneration++
+    this._onSeeds = onReport
+    this.worker.postMessage({ type: 'seeds-open', generation: this._seedsGeneration, ...spec })
+  }
+
+  /** No room simulated in the worker any more. */
+  closeSeedsRoom () {
+    if (this._onSeeds === null) return
+    this._seedsGeneration++
+    this._onSeeds = null
+    this.worker.postMessage({ type: 'seeds-close' })
+  }
+
+  /** @param {import('./board-worker-room.js').WorkerDrop} drop */
+  seedsAdd (drop) { this.worker.postMessage({ type: 'seeds-add', drop }) }
+
+  /** @param {number} dropId */
+  seedsComplete (dropId) { this.worker.postMessage({ type: 'seeds-complete', dropId }) }
+
+  /** @param {boolean} on */
+  seedsTrace (on) { this.worker.postMessage({ type: 'seeds-trace', on }) }
+
+  /**
+   * The desync check, run where the room is simulated.
+   * @param {number} tick @param {string} hash
+   * @returns {Promise<{ ok: boolean, tick: number, server: string, local: string, balls: number } | null>} null: that room is not simulated there any more
+   */
+  seedsCheck (tick, hash) {
+    const id = this._nextRead++
+    return new Promise((resolve) => {
+      this._reads.set(id, (data) => resolve(data.result))
+      this.worker.postMessage({ type: 'seeds-check', id, generation: this._seedsGeneration, tick, hash })
+    })
+  }
+
+  /**
+   * A seeds-mode frame: the worker poses its room's balls at render tick
+   * `tick` itself (null: no clock sample yet), so only the tick and the
+   * effect commands go over.
+   * @param {number | null} tick @param {number} now @param {boolean} reducedMotion
+   */
+  seedsFrame (tick, now, reducedMotion) {
+    this._queue({ type: 'frame', poses: null, seedsTick: tick, now, reducedMotion, trail: undefined, commands: this._takeCommands() })
   }
 
   /** The canvas's pixels, read in the worker (for tests). */
@@ -84,13 +151,14 @@ export class WorkerBoard {
   _post (frame) {
     this._inFlight = true
     this._waiting = null
-    this.worker.postMessage(frame, [frame.poses.buffer])
+    this.worker.postMessage(frame, frame.poses ? [frame.poses.buffer] : [])
   }
 
-  _drawn ({ poses, stats }) {
-    this._spare.push(poses)
+  _drawn ({ poses, stats, seeds }) {
+    if (poses) this._spare.push(poses)
     this._inFlight = false
     if (stats) this.onDrawn(stats)
+    if (seeds && seeds.generation === this._seedsGeneration) this._onSeeds?.(seeds)
     if (this._waiting) this._post(this._waiting)
   }
 

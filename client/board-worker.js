@@ -1,4 +1,5 @@
 import { BoardPainter } from './board-painter.js'
+import { WorkerRoom } from './board-worker-room.js'
 
 /**
  * The board drawn in a worker, on the OffscreenCanvas the page handed over
@@ -9,10 +10,23 @@ import { BoardPainter } from './board-painter.js'
  * commands started since the last one), { type: 'pixels', id }. Out:
  * { type: 'drawn', poses, stats } per frame (the pose buffer handed
  * back for reuse; stats null if nothing was drawn), { type: 'pixels', id, width, height, data }.
+ *
+ * Seeds mode (board-worker-room.js): { type: 'seeds-open', generation, room,
+ * rows, risk, engineVersion } starts the room's simulation here (replacing
+ * any), { type: 'seeds-close' } ends it, { type: 'seeds-add', drop },
+ * { type: 'seeds-complete', dropId }, { type: 'seeds-trace', on } and
+ * { type: 'seeds-check', id, tick, hash } (answered { type: 'seeds-checked',
+ * id, result }); a frame then carries `seedsTick` (the render tick) instead
+ * of poses, and its `drawn` answer the room's FrameReport as `seeds`.
  */
 
 /** @type {BoardPainter | null} */
 let painter = null
+/** @type {WorkerRoom | null} the joined room's simulation (seeds mode) */
+let room = null
+let generation = 0
+
+const EMPTY = new Float64Array(0)
 
 self.onmessage = ({ data }) => {
   switch (data.type) {
@@ -27,9 +41,34 @@ self.onmessage = ({ data }) => {
       break
     case 'frame': {
       for (const command of data.commands) painter.apply(command)
-      self.postMessage({ type: 'drawn', poses: data.poses, stats: painter.draw(data) }, [data.poses.buffer])
+      if (data.seedsTick === undefined) {
+        self.postMessage({ type: 'drawn', poses: data.poses, stats: painter.draw(data) }, [data.poses.buffer])
+        break
+      }
+      const seeded = room ? room.frame(data.seedsTick) : null
+      const stats = painter.draw({ ...data, poses: seeded?.poses ?? EMPTY, count: seeded?.count ?? 0 })
+      self.postMessage({ type: 'drawn', poses: null, stats, seeds: seeded ? { generation, ...seeded.report } : null })
       break
     }
+    case 'seeds-open':
+      room = new WorkerRoom(data)
+      generation = data.generation
+      break
+    case 'seeds-close':
+      room = null
+      break
+    case 'seeds-add':
+      room?.add(data.drop)
+      break
+    case 'seeds-complete':
+      room?.complete(data.dropId)
+      break
+    case 'seeds-trace':
+      room?.trace(data.on)
+      break
+    case 'seeds-check':
+      self.postMessage({ type: 'seeds-checked', id: data.id, result: room && generation === data.generation ? room.check(data.tick, data.hash) : null })
+      break
     case 'pixels': {
       // What the canvas shows, for tests (the page cannot read a canvas it handed over).
       const { width, height } = painter.canvas

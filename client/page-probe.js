@@ -1,5 +1,5 @@
 import { ENGINE_VERSION } from '/engine/index.js'
-import { SeededRoom } from './seeded-room.js'
+import { isSeededView } from './seeds-delivery.js'
 
 /**
  * What tests (and curious players) can read and do: window.__plinko.
@@ -7,7 +7,7 @@ import { SeededRoom } from './seeded-room.js'
  */
 export function installProbe (page) {
   const { connection, account, verifier, history, fairness, renderer, sound, loop } = page
-  const seededView = () => connection.view instanceof SeededRoom ? connection.view : null
+  const seededView = () => isSeededView(connection.view) ? connection.view : null
   window.__plinko = {
     get ready () { return connection.joinedRoom !== null },
     get playerId () { return account.playerId },
@@ -30,6 +30,8 @@ export function installProbe (page) {
       const view = seededView()
       return { ...connection.seeds, desyncs: connection.seeds.desyncs.map((d) => ({ ...d })), room: view ? { ...view.stats, inFlight: view.drops.size } : null, trace: view?.trace ?? null }
     },
+    /** Seeds mode: where the joined room is simulated ('worker': beside the board's drawing; 'main'), or null. */
+    get simulatedIn () { const view = seededView(); return view ? (view.drawsInWorker ? 'worker' : 'main') : null },
     /** Seeds mode: records every drawn ball position (drop id, render tick, x, y). */
     startSeedsTrace: () => { const view = seededView(); if (view) view.trace = [] },
     get timeline () {

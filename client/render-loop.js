@@ -36,6 +36,7 @@ export class RenderLoop {
     // The first frame drawn (in a worker, answered after this frame's task), whether or not anything moves now.
     if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
     let poses = []
+    if (view?.drawsInWorker && timeline) return this.workerFrame(view, timeline.advance(now), now)
     if (view && timeline) {
       const tick = timeline.advance(now)
       if (tick !== null) {
@@ -57,6 +58,27 @@ export class RenderLoop {
     }
     renderer.draw(poses, now)
     if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
+  }
+
+  /**
+   * A frame of a room simulated in the board worker (worker-seeded-room.js):
+   * the render tick goes there; the peg hits and landings of the frames it
+   * drew come back and are played here.
+   */
+  workerFrame (view, tick, now) {
+    const { renderer } = this.page
+    if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
+    view.lastTick = tick
+    this.lastFrame = { balls: view.balls, unknown: 0, mine: view.mineDrawn }
+    this.playEvents(view, now)
+    // Nothing moves (no ball on the board, none drawn, no effect running): keep the last frame.
+    if (view.drops.size === 0 && view.balls === 0 && !renderer.busy && !renderer.needsDraw) {
+      if (this.idleDrawn) return
+      this.idleDrawn = true
+    } else {
+      this.idleDrawn = false
+    }
+    renderer.drawSeeds(tick, now)
   }
 
   record (now, tick, poses, a, b) {

@@ -7,8 +7,9 @@ import { socketUrl } from './socket-url.js'
 import { SnapshotTimeline } from './snapshot-timeline.js'
 import { RoomView } from './room-view.js'
 import { SeededRoom } from './seeded-room.js'
+import { WorkerSeededRoom } from './worker-seeded-room.js'
 import { RoomClock } from './room-clock.js'
-import { pageDelivery, applyDropEvents, applyPong, reportDesync, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
+import { pageDelivery, applyDropEvents, applyPong, reportDesync, isSeededView, DELIVERY_SNAPSHOTS } from './seeds-delivery.js'
 
 const ROOM_KEY = 'plinko.room'
 /** E_WRONG_NODE redirects followed in a row without a join; past this the page stops and says so. */
@@ -35,8 +36,10 @@ export class RoomConnection {
     /** Where the socket connects: this page's directory, or the process E_WRONG_NODE named. */
     this.socketBase = new URL('.', location.href).href
     this.redirects = 0
-    /** @type {RoomView | SeededRoom | null} */
+    /** @type {RoomView | SeededRoom | WorkerSeededRoom | null} */
     this.view = null
+    /** Where a seeds room is simulated: in the board worker when the board is drawn there, unless the address says `?simulation=main`. */
+    this.simulateInWorker = new URLSearchParams(location.search).get('simulation') !== 'main'
     /** @type {SnapshotTimeline | RoomClock | null} */
     this.timeline = null
     /** The delivery mode asked for in `join` (seeds-delivery.js), and the rooms switched to snapshots after a desync. */
@@ -130,8 +133,16 @@ export class RoomConnection {
 
   /** The joined room's view and clock, for the delivery the server chose. */
   openView (message, board, parsed) {
-    const { verifier, snapshotChecks } = this.page
-    if (message.delivery === 'seeds') {
+    const { verifier, snapshotChecks, renderer } = this.page
+    if (this.view instanceof WorkerSeededRoom) this.view.close()
+    const worker = this.simulateInWorker ? renderer.worker : null
+    if (message.delivery === 'seeds' && worker) {
+      // The page simulates the room itself, in the board worker beside the drawing (board-worker-room.js).
+      this.view = new WorkerSeededRoom({ room: message.room, board, boardOf: parsed, worker })
+      // The worker is gone (the board is drawn here now): join again, to simulate the room here.
+      renderer.onFallBack = () => { if (this.view instanceof WorkerSeededRoom) this.join(this.roomId) }
+      this.timeline = new RoomClock({ tickRate: message.tickRate, rttMs: () => this.socket.rttMs })
+    } else if (message.delivery === 'seeds') {
       // The page simulates the room itself (seeded-room.js) at the room's tick.
       this.view = new SeededRoom({ room: message.room, board, boardFor: (engineVersion) => verifier.board(parsed.rows, parsed.risk, engineVersion) })
       this.timeline = new RoomClock({ tickRate: message.tickRate, rttMs: () => this.socket.rttMs })
@@ -180,7 +191,7 @@ export class RoomConnection {
 
   /** A binary frame: drop events in seeds mode, else a room frame (events and a snapshot). */
   handleFrame (frame, receivedAt) {
-    if (this.view instanceof SeededRoom) return this.onDropEvents(frame, receivedAt)
+    if (isSeededView(this.view)) return this.onDropEvents(frame, receivedAt)
     const split = splitRoomFrame(frame)
     if (!split) return
     this.handleRoomEvents(split.events)
@@ -193,12 +204,19 @@ export class RoomConnection {
   /** Seeds mode: other players' drops go on the board, and the page's simulation is checked against the server's hash. */
   onDropEvents (frame, receivedAt) {
     const room = this.joinedRoom
-    const check = applyDropEvents(frame, receivedAt, { view: this.view, clock: this.timeline, add: (event) => this.track({ ...event, room }) })
-    if (check === null) { this.seeds.otherFrames++; return }
+    const view = this.view
+    const applied = applyDropEvents(frame, receivedAt, { view, clock: this.timeline, add: (event) => this.track({ ...event, room }) })
+    if (applied === null) { this.seeds.otherFrames++; return }
     // Our own `settled` rides in the room's frame (the owner's section), after its events.
-    for (const message of check.own) this.handleMessage(message)
-    if (check.ok) return
-    const desync = { room, tick: check.tick, server: check.server, local: check.local, ballsInFlight: check.balls, engineVersion: this.view.board.engineVersion }
+    for (const message of applied.own) this.handleMessage(message)
+    if (applied.check instanceof Promise) applied.check.then((check) => this.onCheck(check, view, room))
+    else this.onCheck(applied.check, view, room)
+  }
+
+  /** The desync check of a drop-events frame: a room whose simulation disagrees with the server's is shown from snapshots. */
+  onCheck (check, view, room) {
+    if (check === null || check.ok || view !== this.view) return
+    const desync = { room, tick: check.tick, server: check.server, local: check.local, ballsInFlight: check.balls, engineVersion: view.board.engineVersion }
     this.seeds.desyncs.push(desync)
     this.page.notices.say(`This page's simulation of room ${room} disagrees with the server's at tick ${check.tick}: showing the server's positions instead.`, 'error')
     this.snapshotRooms.add(room)
@@ -222,7 +240,7 @@ export class RoomConnection {
     const parsed = parseRoomId(announced.room)
     if (!parsed) return
     const { verifier, account } = this.page
-    const live = announced.room === this.joinedRoom && this.view instanceof SeededRoom
+    const live = announced.room === this.joinedRoom && isSeededView(this.view)
     // Seeds mode: the ball's own simulation on the board gives the outcome the verifier checks.
     const local = live ? verifier.expect(announced, parsed, account.playerId) : verifier.simulate(announced, parsed, account.playerId)
     if (announced.room === this.joinedRoom && this.view) this.view.add(local)

@@ -79,6 +79,8 @@ export class SeededRoom {
     this.landings = []
     /** @type {import('./room-view.js').PegHit[]} */
     this.pegHits = []
+    /** Drop ids whose ball left the board (landed and faded), for a caller that mirrors `drops` elsewhere and empties it (null: not kept). @type {number[] | null} */
+    this.retired = null
     /** Seeds mode draws no ball it cannot explain. */
     this.unknownDrawn = 0
     this.lastTick = null
@@ -362,6 +364,7 @@ export class SeededRoom {
     this._release(flight)
     this._flights.delete(flight.drop.dropId)
     this.drops.delete(flight.drop.dropId)
+    this.retired?.push(flight.drop.dropId)
   }
 
   /** A simulator with no ball in flight, from the pool. */

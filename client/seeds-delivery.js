@@ -14,6 +14,8 @@
 import { decodeDropEvents } from '/protocol/drop-events-codec.js'
 import { apiRequest } from './api.js'
 import { RoomClock } from './room-clock.js'
+import { SeededRoom } from './seeded-room.js'
+import { WorkerSeededRoom } from './worker-seeded-room.js'
 
 export const DELIVERY_SEEDS = 'seeds'
 export const DELIVERY_SNAPSHOTS = 'snapshots'
@@ -27,16 +29,22 @@ export function pageDelivery (search) {
   return new URLSearchParams(search).get('delivery') === DELIVERY_SNAPSHOTS ? DELIVERY_SNAPSHOTS : DELIVERY_SEEDS
 }
 
+/** Whether the room's view is the page's own simulation (here or in the board worker), not the server's snapshots. */
+export function isSeededView (view) {
+  return view instanceof SeededRoom || view instanceof WorkerSeededRoom
+}
+
 /**
  * A binary frame on a seeds socket.
  * @param {ArrayBuffer} frame @param {number} receivedAt ms
  * @param {object} room
- * @param {import('./seeded-room.js').SeededRoom} room.view
+ * @param {SeededRoom | WorkerSeededRoom} room.view
  * @param {import('./room-clock.js').RoomClock} room.clock
  * @param {(event: import('/protocol/drop-events-codec.js').DropEvent) => void} room.add puts a drop the view does not have yet on the board
- * @returns {{ ok: boolean, tick: number, server: string, local: string, events: number, own: object[] } | null}
- *   the desync check and the page's own messages that rode in the frame (its `settled`),
- *   or null: not a drop-events frame (a seeds socket should get no other)
+ * @returns {{ check: DesyncCheck | Promise<DesyncCheck | null>, events: number, own: object[] } | null}
+ *   the desync check (answered later when the room is simulated in the board worker;
+ *   null there if the room was left meanwhile) and the page's own messages that rode in
+ *   the frame (its `settled`), or null: not a drop-events frame (a seeds socket should get no other)
  */
 export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
   const batch = decodeDropEvents(frame)
@@ -44,8 +52,10 @@ export function applyDropEvents (frame, receivedAt, { view, clock, add }) {
   clock.observe(batch.tick, receivedAt)
   // The batch may name drops the page has (its own `dropped`, `joined.balls`).
   for (const event of batch.events) if (!view.has(event.dropId)) add(event)
-  return { ...view.check(batch.tick, batch.hash), events: batch.events.length, own: batch.own }
+  return { check: view.check(batch.tick, batch.hash), events: batch.events.length, own: batch.own }
 }
+
+/** @typedef {{ ok: boolean, tick: number, server: string, local: string, balls: number }} DesyncCheck */
 
 /**
  * A `pong` on a seeds socket: in a room it names the room's tick as the

@@ -132,10 +132,10 @@ describe('a drop-events frame on the page', () => {
     const add = (event) => { added.push(event.dropId); view.add({ ...drop(31, event.startTick, event.slot), dropId: event.dropId }) }
     const check = applyDropEvents(frame.buffer.slice(frame.byteOffset, frame.byteOffset + frame.byteLength), 1000, { view, clock, add })
     expect(added).toEqual([fresh.dropId])
-    expect(check).toMatchObject({ ok: true, tick: 9, server: hash, events: 2, balls: 2 })
+    expect(check).toMatchObject({ check: { ok: true, tick: 9, server: hash, balls: 2 }, events: 2 })
     expect(clock.stats.observations).toBe(1)
     const forged = encodeDropEvents(12, '0000000000000000', [])
-    expect(applyDropEvents(forged, 1100, { view, clock, add }).ok).toBe(false)
+    expect(applyDropEvents(forged, 1100, { view, clock, add }).check.ok).toBe(false)
     const snapshot = encodeSnapshot(5, new Uint8Array(1), 0, new Float64Array(0), new Float64Array(0), 16, 0, 1)
     expect(applyDropEvents(snapshot, 1200, { view, clock, add })).toBe(null)
     expect(pageDelivery('')).toBe('seeds')
