@@ -38,8 +38,12 @@ export class RoomConnection {
     this.redirects = 0
     /** @type {RoomView | SeededRoom | WorkerSeededRoom | null} */
     this.view = null
-    /** Where a seeds room is simulated: in the board worker when the board is drawn there, unless the address says `?simulation=main`. */
-    this.simulateInWorker = new URLSearchParams(location.search).get('simulation') !== 'main'
+    /**
+     * Where a seeds room is simulated: on the main thread, or with `?simulation=worker` in the
+     * board worker beside the drawing (when the board is drawn there). Not the default yet:
+     * measured no faster on the main thread so far (docs/client.md).
+     */
+    this.simulateInWorker = new URLSearchParams(location.search).get('simulation') === 'worker'
     /** @type {SnapshotTimeline | RoomClock | null} */
     this.timeline = null
     /** The delivery mode asked for in `join` (seeds-delivery.js), and the rooms switched to snapshots after a desync. */

@@ -99,8 +99,7 @@ describe('seeds delivery on the player page', () => {
     // Joins while those balls fall: they come in joined.balls and are fast-forwarded.
     const { page, kinds } = await openRouted()
     await page.evaluate(() => window.__plinko.startSeedsTrace())
-    // Simulated in the board worker, beside its drawing: the main thread sends the render tick only.
-    expect(await page.evaluate(() => window.__plinko.simulatedIn)).toBe('worker')
+    expect(await page.evaluate(() => window.__plinko.simulatedIn)).toBe('main')
     const joinedWith = await page.evaluate(() => window.__plinko.seeds.room.drops)
     expect(joinedWith).toBeGreaterThan(0)
     // One more drop: its batch carries a desync check whatever the timing.
