@@ -119,9 +119,7 @@ export class SeededRoom {
    * @param {import('./drop-verifier.js').LocalDrop} drop
    */
   add (drop) {
-    if (this._seen.has(drop.dropId)) return
-    this._seen.add(drop.dropId)
-    if (this._seen.size > MAX_SEEN) this._seen.delete(this._seen.values().next().value)
+    if (!firstSighting(this._seen, drop.dropId)) return
     const board = this.boardFor(drop.engineVersion)
     const simulator = this._simulator(board)
     const body = simulator.addDrop(drop.dropSeed, drop)
@@ -382,6 +380,18 @@ export class SeededRoom {
     if (!idle) this._pool.set(flight.board, (idle = []))
     idle.push(simulator)
   }
+}
+
+/**
+ * Records a drop id as put on a board (the latest MAX_SEEN are kept: a
+ * batch may name a drop again); false if it was already.
+ * @param {Set<number>} seen @param {number} dropId
+ */
+export function firstSighting (seen, dropId) {
+  if (seen.has(dropId)) return false
+  seen.add(dropId)
+  if (seen.size > MAX_SEEN) seen.delete(seen.values().next().value)
+  return true
 }
 
 function grow (array) {

@@ -13,7 +13,8 @@
  * landed yet is simulated here by the verifier (drop-verifier.js), by the
  * same engine, as a drop the page never drew is.
  */
-const MAX_SEEN = 10_000
+import { firstSighting } from './seeded-room.js'
+
 const MAX_TRACE = 50_000
 
 export class WorkerSeededRoom {
@@ -63,16 +64,14 @@ export class WorkerSeededRoom {
     return count
   }
 
-  /** @param {number} dropId */
+  /** Whether this drop was put on the board (still there, or landed and gone). @param {number} dropId */
   has (dropId) {
     return this._seen.has(dropId)
   }
 
   /** Puts an announced drop's ball on the board (once per drop id). @param {import('./drop-verifier.js').LocalDrop} drop */
   add (drop) {
-    if (this._seen.has(drop.dropId)) return
-    this._seen.add(drop.dropId)
-    if (this._seen.size > MAX_SEEN) this._seen.delete(this._seen.values().next().value)
+    if (!firstSighting(this._seen, drop.dropId)) return
     this.drops.set(drop.dropId, drop)
     this.stats.drops++
     const { dropId, dropSeed, engineVersion, startTick, slot, mine, player, bet } = drop
