@@ -50,12 +50,7 @@ export class RenderLoop {
       this.playEvents(view, now)
     }
     // Nothing moves: keep the last frame.
-    if (poses.length === 0 && !renderer.busy && !renderer.needsDraw) {
-      if (this.idleDrawn) return
-      this.idleDrawn = true
-    } else {
-      this.idleDrawn = false
-    }
+    if (this.keepsLastFrame(poses.length > 0)) return
     renderer.draw(poses, now)
     if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
   }
@@ -66,19 +61,26 @@ export class RenderLoop {
    * drew come back and are played here.
    */
   workerFrame (view, tick, now) {
-    const { renderer } = this.page
-    if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
     view.lastTick = tick
     this.lastFrame = { balls: view.balls, unknown: 0, mine: view.mineDrawn }
     this.playEvents(view, now)
-    // Nothing moves (no ball on the board, none drawn, no effect running): keep the last frame.
-    if (view.drops.size === 0 && view.balls === 0 && !renderer.busy && !renderer.needsDraw) {
-      if (this.idleDrawn) return
-      this.idleDrawn = true
-    } else {
-      this.idleDrawn = false
-    }
-    renderer.drawSeeds(tick, now)
+    // Nothing moves (no ball on the board, none drawn): keep the last frame.
+    if (this.keepsLastFrame(view.drops.size > 0 || view.balls > 0)) return
+    this.page.renderer.drawSeeds(tick, now)
+  }
+
+  /**
+   * Whether this frame can keep the last one: nothing moves, no effect runs
+   * and the canvas was not cleared, and the last frame already showed that
+   * (the first still frame is drawn).
+   * @param {boolean} moving
+   */
+  keepsLastFrame (moving) {
+    const { renderer } = this.page
+    const still = !moving && !renderer.busy && !renderer.needsDraw
+    const keep = still && this.idleDrawn
+    this.idleDrawn = still
+    return keep
   }
 
   record (now, tick, poses, a, b) {
