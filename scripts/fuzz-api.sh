@@ -68,7 +68,8 @@ echo "fuzzing $base/api/openapi.json: schemathesis $SCHEMATHESIS_VERSION, seed $
 replay="FUZZ_SEED=$SEED FUZZ_EXAMPLES=$EXAMPLES FUZZ_MAX_TIME=$MAX_TIME scripts/fuzz-api.sh${*:+ $*}"
 echo "replay with: $replay"
 status=0
-"$VENV/bin/schemathesis" --config-file scripts/fuzz-api.toml run "$base/api/openapi.json" "$@" \
+# Through scripts/fuzz-report.js: same output, ending with a plain `Fuzz: N passed, N failed` line.
+node scripts/fuzz-report.js -- "$VENV/bin/schemathesis" --config-file scripts/fuzz-api.toml run "$base/api/openapi.json" "$@" \
   --seed "$SEED" --max-examples "$EXAMPLES" --max-time "$MAX_TIME" \
   --workers 1 --generation-database none --no-color || status=$?
 if ! kill -0 "$server_pid" 2>/dev/null; then

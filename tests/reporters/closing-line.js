@@ -1,3 +1,5 @@
+import { closingLine } from '../../tools/closing-line.js'
+
 /**
  * Ends a vitest run with one plain line, `Tests: N passed, N failed` (and
  * `, N skipped` when any were), after vitest's own coloured summary: a line a
@@ -19,11 +21,6 @@ export default class ClosingLineReporter {
       if (testModule.state() === 'failed' && tests === 0) counts.failed += 1
     }
     counts.failed += unhandledErrors.length
-    process.stdout.write(`\n${closingLine(counts)}\n`)
+    process.stdout.write(`\n${closingLine('Tests', counts)}\n`)
   }
-}
-
-/** @param {{ passed: number, failed: number, skipped: number }} counts */
-export function closingLine ({ passed, failed, skipped }) {
-  return `Tests: ${passed} passed, ${failed} failed` + (skipped > 0 ? `, ${skipped} skipped` : '')
 }
