@@ -1,5 +1,5 @@
-import { createBoard } from '/engine/index.js'
 import { SeededRoom } from './seeded-room.js'
+import { BoardCache } from './board-cache.js'
 import { packPoses, poseBuffer, STRIDE } from './pose-frame.js'
 
 /**
@@ -19,18 +19,10 @@ export class WorkerRoom {
    * @param {{ room: string, rows: number, risk: string, engineVersion: string }} spec the room and its board under its newest engine version
    */
   constructor ({ room, rows, risk, engineVersion }) {
-    /** @type {Map<string, import('/engine/board.js').Board>} */
-    this._boards = new Map()
-    this.view = new SeededRoom({ room, board: this._board(rows, risk, engineVersion), boardFor: (version) => this._board(rows, risk, version) })
+    const boards = new BoardCache()
+    this.view = new SeededRoom({ room, board: boards.board(rows, risk, engineVersion), boardFor: (version) => boards.board(rows, risk, version) })
     this.view.retired = []
     this._poses = poseBuffer(0)
-  }
-
-  /** The room's board under `engineVersion`, built here once (the engine is the page's own). */
-  _board (rows, risk, engineVersion) {
-    let board = this._boards.get(engineVersion)
-    if (!board) this._boards.set(engineVersion, (board = createBoard({ rows, risk, engineVersion })))
-    return board
   }
 
   /** @param {WorkerDrop} drop */

@@ -1,4 +1,5 @@
-import { createBoard, simulateDrop, ENGINE_VERSION } from '/engine/index.js'
+import { simulateDrop, ENGINE_VERSION } from '/engine/index.js'
+import { BoardCache } from './board-cache.js'
 
 /**
  * Verifies every drop the page hears about with the very engine the server
@@ -35,7 +36,7 @@ const MAX_KEPT = 10_000
 
 export class DropVerifier {
   constructor () {
-    this._boards = new Map()
+    this._boards = new BoardCache()
     /** @type {Map<number, LocalDrop>} simulated, not yet settled */
     this.pending = new Map()
     /** @type {Verification[]} in settlement order (the latest MAX_KEPT) */
@@ -47,15 +48,12 @@ export class DropVerifier {
   }
 
   /**
-   * The engine's board, built locally (not taken from the server).
+   * The engine's board, built locally (not taken from the server), once.
    * @param {number} rows @param {string} risk @param {string} [engineVersion] default the page's newest
    * @throws {import('/engine/index.js').UnknownEngineVersionError} a version this page's engine does not have
    */
-  board (rows, risk, engineVersion = ENGINE_VERSION) {
-    const key = `${rows}-${risk}@${engineVersion}`
-    let board = this._boards.get(key)
-    if (!board) this._boards.set(key, (board = createBoard({ rows, risk, engineVersion })))
-    return board
+  board (rows, risk, engineVersion) {
+    return this._boards.board(rows, risk, engineVersion)
   }
 
   /**

@@ -106,6 +106,8 @@ export class RenderLoop {
   onLanding (view, landing, now) {
     const { renderer, sound, results } = this.page
     const multiplier = view.board.multipliers[landing.bucket]
+    // Shown from now on (a room simulated in the worker reports its landings a frame before they play).
+    landing.drop.landingShown = true
     if (!landing.stale) {
       landing.drop.landedOnScreenAt = now
       renderer.flash(landing.bucket, landing.mine, now)

@@ -39,11 +39,11 @@ export class RoomConnection {
     /** @type {RoomView | SeededRoom | WorkerSeededRoom | null} */
     this.view = null
     /**
-     * Where a seeds room is simulated: on the main thread, or with `?simulation=worker` in the
-     * board worker beside the drawing (when the board is drawn there). Not the default yet:
-     * measured no faster on the main thread so far (docs/client.md).
+     * Where a seeds room is simulated: in the board worker beside the drawing, when the board
+     * is drawn there (measured 1.5–2 ms less main thread a frame at 100 balls, docs/client.md),
+     * or on the main thread with `?simulation=main` (and wherever the board is drawn on it).
      */
-    this.simulateInWorker = new URLSearchParams(location.search).get('simulation') === 'worker'
+    this.simulateInWorker = new URLSearchParams(location.search).get('simulation') !== 'main'
     /** @type {SnapshotTimeline | RoomClock | null} */
     this.timeline = null
     /** The delivery mode asked for in `join` (seeds-delivery.js), and the rooms switched to snapshots after a desync. */

@@ -110,7 +110,8 @@ export class WorkerSeededRoom {
       if (!drop) continue
       if (drop.ticks === null) Object.assign(drop, { bucket: landing.bucket, ticks: landing.ticks, stateHash: landing.stateHash })
       if (!drop.mine && landing.result) drop.result = landing.result
-      drop.landingShown = true
+      // Not landingShown yet: that is when the render loop plays it, next frame (a `settled` coming
+      // in between must wait for it, or its payout would not float).
       this.landings.push({ bucket: landing.bucket, mine: drop.mine, dropId: drop.dropId, drop, stale: landing.stale })
     }
     for (const dropId of report.retired) this.drops.delete(dropId)

@@ -1,7 +1,7 @@
 #!/usr/bin/env node
 /**
  * What drawing a busy room costs the player page:
- * `node scripts/page-frame-cost.js [--seconds 10] [--delivery seeds,snapshots] [--board worker|main]`.
+ * `node scripts/page-frame-cost.js [--seconds 10] [--delivery seeds,snapshots] [--board worker|main] [--simulation main,worker]`.
  *
  * Starts the real server (SQLite in a temporary folder), opens the player
  * page in headless Chromium (CHROMIUM_PATH, default /usr/bin/chromium)
@@ -19,6 +19,11 @@
  * drawn in a worker (OffscreenCanvas), whose time is not the main
  * thread's; frames are those the worker drew. `--board main` draws it on
  * the main thread instead (the page's fallback, `?board=main`).
+ * `--simulation main,worker` measures a seeds room simulated on the main
+ * thread (the default page) and in the board worker (`?simulation=worker`)
+ * side by side, one after the other for each size and ball count; for a
+ * room simulated in the worker, the simulation column is the worker's own
+ * time (its SeededRoom's counters), not the main thread's.
  * Figures go to docs/client.md.
  */
 import fs from 'node:fs'
@@ -37,7 +42,8 @@ const { values } = parseArgs({
     delivery: { type: 'string', default: 'seeds,snapshots' },
     balls: { type: 'string', default: '30,100' },
     throttle: { type: 'string', default: '4' },
-    board: { type: 'string', default: 'worker' }
+    board: { type: 'string', default: 'worker' },
+    simulation: { type: 'string', default: 'main' }
   }
 })
 const SECONDS = Number(values.seconds)
@@ -45,6 +51,8 @@ const DELIVERIES = values.delivery.split(',')
 const BALLS = values.balls.split(',').map(Number)
 const THROTTLE = Number(values.throttle)
 const BOARD = values.board
+const SIMULATIONS = values.simulation.split(',')
+for (const where of SIMULATIONS) if (where !== 'main' && where !== 'worker') throw new Error(`--simulation takes main and worker, not ${where}`)
 const ROOM = '16-medium'
 const BOTS = 8
 const SIZES = [
@@ -63,7 +71,12 @@ try {
   const bots = await Promise.all(Array.from({ length: BOTS }, () => openBot(base)))
   for (const delivery of DELIVERIES) {
     for (const size of SIZES) {
-      for (const balls of BALLS) rows.push({ delivery, size: size.name, target: balls, ...await measure(base, bots, delivery, size, balls) })
+      for (const balls of BALLS) {
+        // The simulation's place only matters where the page simulates: seeds.
+        for (const simulation of delivery === 'seeds' ? SIMULATIONS : ['main']) {
+          rows.push({ delivery, simulation, size: size.name, target: balls, ...await measure(base, bots, delivery, size, balls, simulation) })
+        }
+      }
     }
   }
   for (const bot of bots) bot.socket.close()
@@ -75,9 +88,9 @@ try {
 }
 
 console.log(`player page, headless Chromium, CPU throttled ${THROTTLE}×, room ${ROOM}, board drawn in ${BOARD === 'main' ? 'the main thread' : 'a worker'}, ${SECONDS} s steady window each; mean flight ${flightSeconds.toFixed(2)} s`)
-console.log('delivery   viewport        balls (target, drawn)  main thread ms/frame  of it JS  of it simulation  fps    frames')
+console.log('delivery   simulated  viewport        balls (target, drawn)  main thread ms/frame  of it JS  of it simulation  fps    frames')
 for (const r of rows) {
-  console.log(`${r.delivery.padEnd(9)}  ${r.size.padEnd(14)}  ${String(r.target).padStart(6)}, ${r.drawn.toFixed(1).padStart(6)}         ${r.msPerFrame.toFixed(2).padStart(8)}         ${r.scriptMsPerFrame.toFixed(2).padStart(6)}    ${r.simMsPerFrame === null ? '     –' : r.simMsPerFrame.toFixed(2).padStart(6)}            ${r.fps.toFixed(1).padStart(5)}  ${String(r.frames).padStart(6)}`)
+  console.log(`${r.delivery.padEnd(9)}  ${(r.delivery === 'seeds' ? r.simulation : '–').padEnd(9)}  ${r.size.padEnd(14)}  ${String(r.target).padStart(6)}, ${r.drawn.toFixed(1).padStart(6)}         ${r.msPerFrame.toFixed(2).padStart(8)}         ${r.scriptMsPerFrame.toFixed(2).padStart(6)}    ${r.simMsPerFrame === null ? '     –' : r.simMsPerFrame.toFixed(2).padStart(6)}            ${r.fps.toFixed(1).padStart(5)}  ${String(r.frames).padStart(6)}`)
 }
 
 /** Mean ticks from release to landing on the room's board, in seconds (60 ticks a second). */
@@ -119,13 +132,17 @@ function dropAtRate (bots, perSecond) {
   return { stop: () => clearInterval(timer) }
 }
 
-async function measure (base, bots, delivery, size, balls) {
+async function measure (base, bots, delivery, size, balls, simulation) {
   const context = await browser.newContext(size.options)
   const page = await context.newPage()
-  await page.goto(`${base}/?delivery=${delivery}${BOARD === 'main' ? '&board=main' : ''}`)
+  await page.goto(`${base}/?delivery=${delivery}${BOARD === 'main' ? '&board=main' : ''}${simulation === 'worker' ? '&simulation=worker' : ''}`)
   await page.waitForFunction(() => window.__plinko?.ready === true, null, { timeout: 60_000 })
   const drawnIn = await page.evaluate(() => window.__plinko.boardDrawnIn)
   if (drawnIn !== BOARD) throw new Error(`the board is drawn in ${drawnIn}, not ${BOARD}`)
+  if (delivery === 'seeds') {
+    const simulatedIn = await page.waitForFunction(() => window.__plinko.simulatedIn, null, { timeout: 30_000 }).then((handle) => handle.jsonValue())
+    if (simulatedIn !== simulation) throw new Error(`the room is simulated in ${simulatedIn}, not ${simulation}`)
+  }
   const cdp = await context.newCDPSession(page)
   await cdp.send('Performance.enable')
   await cdp.send('Emulation.setCPUThrottlingRate', { rate: THROTTLE })

@@ -34,7 +34,7 @@ afterEach(async () => {
  * frames are counted by kind, and `alter(frame)` may hold one back (a
  * delay in ms) or change it before it goes on.
  */
-async function openRouted ({ delayMs = 0, alter = (frame) => frame } = {}) {
+async function openRouted ({ delayMs = 0, alter = (frame) => frame, query = '' } = {}) {
   const page = await chromium.newPage()
   const kinds = {}
   await page.routeWebSocket(/\/ws\?/, (ws) => {
@@ -48,7 +48,7 @@ async function openRouted ({ delayMs = 0, alter = (frame) => frame } = {}) {
     })
   })
   opened.push(page)
-  await page.goto(`${server.base}/`)
+  await page.goto(`${server.base}/${query}`)
   await waitInPage(page, 'the page to join', () => window.__plinko?.ready === true)
   return { page, kinds }
 }
@@ -90,16 +90,20 @@ async function compareWithEngine (trace) {
 }
 
 describe('seeds delivery on the player page', () => {
-  it("draws a late joiner's balls at the engine's positions, with no snapshot frame and every desync check agreeing", async () => {
+  // The page simulates a seeds room in the board worker by default, on the main thread with ?simulation=main.
+  it.each([
+    ['in the board worker', '', 'worker'],
+    ['on the main thread', '?simulation=main', 'main']
+  ])("draws a late joiner's balls at the engine's positions, with no snapshot frame and every desync check agreeing (simulated %s)", async (where, query, simulatedIn) => {
     const dropper = await openPlayer(chromium, server)
     opened.push(dropper)
     expect(await dropper.evaluate(() => window.__plinko.delivery)).toBe('seeds')
     await dropFrom(dropper, 6)
 
     // Joins while those balls fall: they come in joined.balls and are fast-forwarded.
-    const { page, kinds } = await openRouted()
+    const { page, kinds } = await openRouted({ query })
     await page.evaluate(() => window.__plinko.startSeedsTrace())
-    expect(await page.evaluate(() => window.__plinko.simulatedIn)).toBe('main')
+    expect(await page.evaluate(() => window.__plinko.simulatedIn)).toBe(simulatedIn)
     const joinedWith = await page.evaluate(() => window.__plinko.seeds.room.drops)
     expect(joinedWith).toBeGreaterThan(0)
     // One more drop: its batch carries a desync check whatever the timing.
@@ -110,7 +114,7 @@ describe('seeds delivery on the player page', () => {
     })
     const seeds = await page.evaluate(() => window.__plinko.seeds)
     const { compared, worst, drops } = await compareWithEngine(seeds.trace)
-    console.info(`[e2e] late joiner: ${drops} drops, ${compared} drawn positions, largest difference from the engine ${worst} px; ${JSON.stringify(seeds.room)}; frames by kind ${JSON.stringify(kinds)}`)
+    console.info(`[e2e] late joiner (simulated ${where}): ${drops} drops, ${compared} drawn positions, largest difference from the engine ${worst} px; ${JSON.stringify(seeds.room)}; frames by kind ${JSON.stringify(kinds)}`)
     expect(compared).toBeGreaterThan(50)
     expect(worst).toBe(0)
     expect(seeds.room.fastForwarded).toBeGreaterThan(0)
