@@ -20,7 +20,7 @@
  * thread's; frames are those the worker drew. `--board main` draws it on
  * the main thread instead (the page's fallback, `?board=main`).
  * `--simulation main,worker` measures a seeds room simulated on the main
- * thread (the default page) and in the board worker (`?simulation=worker`)
+ * thread (`?simulation=main`) and in the board worker (the default page)
  * side by side, one after the other for each size and ball count; for a
  * room simulated in the worker, the simulation column is the worker's own
  * time (its SeededRoom's counters), not the main thread's.
@@ -43,7 +43,7 @@ const { values } = parseArgs({
     balls: { type: 'string', default: '30,100' },
     throttle: { type: 'string', default: '4' },
     board: { type: 'string', default: 'worker' },
-    simulation: { type: 'string', default: 'main' }
+    simulation: { type: 'string' }
   }
 })
 const SECONDS = Number(values.seconds)
@@ -51,7 +51,9 @@ const DELIVERIES = values.delivery.split(',')
 const BALLS = values.balls.split(',').map(Number)
 const THROTTLE = Number(values.throttle)
 const BOARD = values.board
-const SIMULATIONS = values.simulation.split(',')
+// A seeds room is simulated where the board is drawn by default: the worker, or the main thread with --board main.
+const SIMULATIONS = (values.simulation ?? (BOARD === 'main' ? 'main' : 'worker')).split(',')
+if (BOARD === 'main' && SIMULATIONS.includes('worker')) throw new Error('--simulation worker needs the board drawn in the worker (--board worker)')
 for (const where of SIMULATIONS) if (where !== 'main' && where !== 'worker') throw new Error(`--simulation takes main and worker, not ${where}`)
 const ROOM = '16-medium'
 const BOTS = 8
@@ -135,7 +137,7 @@ function dropAtRate (bots, perSecond) {
 async function measure (base, bots, delivery, size, balls, simulation) {
   const context = await browser.newContext(size.options)
   const page = await context.newPage()
-  await page.goto(`${base}/?delivery=${delivery}${BOARD === 'main' ? '&board=main' : ''}${simulation === 'worker' ? '&simulation=worker' : ''}`)
+  await page.goto(`${base}/?delivery=${delivery}${BOARD === 'main' ? '&board=main' : ''}&simulation=${simulation}`)
   await page.waitForFunction(() => window.__plinko?.ready === true, null, { timeout: 60_000 })
   const drawnIn = await page.evaluate(() => window.__plinko.boardDrawnIn)
   if (drawnIn !== BOARD) throw new Error(`the board is drawn in ${drawnIn}, not ${BOARD}`)
