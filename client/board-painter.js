@@ -90,6 +90,11 @@ export class BoardPainter {
     this._drawStatic()
   }
 
+  /** An effect is still playing (as of the last frame drawn): its next frame differs. */
+  get animating () {
+    return this.flashes.length + this.glows.length + this.floaters.length + this.particles.length + this.bursts.length > 0
+  }
+
   clearEffects () {
     this.flashes.length = 0
     this.glows.length = 0

@@ -60,7 +60,10 @@ export class BoardRenderer {
     // prefers-reduced-motion: no glows, pops, floating payouts, bursts or trails (the balls and the board only).
     const reduce = typeof matchMedia === 'function' ? matchMedia('(prefers-reduced-motion: reduce)') : null
     this.reducedMotion = Boolean(reduce?.matches)
-    reduce?.addEventListener('change', (event) => { this.reducedMotion = event.matches })
+    reduce?.addEventListener('change', (event) => {
+      this.reducedMotion = event.matches
+      this.worker?.motion(event.matches)
+    })
     /** @type {string[]} the texts of the floating payouts shown, latest last (at most 50) */
     this.floaterTexts = []
     this._colors = []
@@ -81,6 +84,7 @@ export class BoardRenderer {
     this.target = null
     if (worker && canDrawInWorker(canvas)) {
       this.target = new WorkerBoard(canvas, worker, { onDrawn, onError: (error) => this._fallBack(error) })
+      this.target.motion(this.reducedMotion)
       this.drawnIn = 'worker'
     } else {
       this.target = new LocalBoard(canvas, onDrawn)
@@ -141,6 +145,14 @@ export class BoardRenderer {
 
   _viewHeightFor (bucketBottom) {
     return this.board.bucketLineY + (bucketBottom + VIEW_MARGIN_BOTTOM) * unitOf(this.board)
+  }
+
+  /** Floating payouts still showing now, wherever the frames are drawn (the board worker draws a seeds room's on its own). */
+  get floating () {
+    const now = performance.now()
+    let count = 0
+    for (const f of this.floaters) if (now - f.start < FLOAT_MS) count++
+    return count
   }
 
   /** Anything still animating (the caller keeps drawing frames until it is not). */
@@ -304,6 +316,8 @@ export class BoardRenderer {
    */
   floatText (bucket, text, now, { big = false } = {}) {
     if (!this.board || this.reducedMotion) return
+    // Those that ended go (frames drawn in the worker do not drop them here).
+    this.floaters = this.floaters.filter((f) => now - f.start < FLOAT_MS)
     this.floaters.push({ text, start: now })
     this._busy(now + FLOAT_MS)
     this.effects.floaters++
@@ -336,12 +350,13 @@ export class BoardRenderer {
   }
 
   /**
-   * One frame of a room simulated in the worker (worker-seeded-room.js):
-   * the worker poses the balls at render tick `tick` itself.
-   * @param {number | null} tick @param {number} now ms
+   * Counts the effects the board worker started itself, for a room it
+   * simulates and draws on its own frames (board-worker-room.js drive()).
+   * @param {{ pegGlows: number, bucketPops: number }} drawn
    */
-  drawSeeds (tick, now) {
-    if (this._startFrame(now)) this.target.seedsFrame(tick, now, this.reducedMotion)
+  countDrawnEffects ({ pegGlows, bucketPops }) {
+    this.effects.pegGlows += pegGlows
+    this.effects.bucketPops += bucketPops
   }
 
   /** The board where a seeds room can be simulated beside its drawing, or null (drawn on the main thread). */
@@ -360,8 +375,8 @@ export class BoardRenderer {
   }
 
   /** A frame was drawn (here or in the worker): what it drew. */
-  _drawn ({ trails, floaterClearance }) {
-    this.frames++
+  _drawn ({ trails, floaterClearance, frames = 1 }) {
+    this.frames += frames
     this.effects.trails += trails
     if (floaterClearance !== null) this.effects.floaterClearance = Math.min(this.effects.floaterClearance ?? Infinity, floaterClearance)
   }

@@ -35,8 +35,11 @@ export class WorkerBoard {
     this._seedsGeneration = 0
     /** @type {((report: import('./board-worker-room.js').FrameReport) => void) | null} */
     this._onSeeds = null
+    /** prefers-reduced-motion, for the frames the worker draws on its own */
+    this._reducedMotion = false
     this.worker.onmessage = ({ data }) => {
       if (data.type === 'drawn') this._drawn(data)
+      else if (data.type === 'seeds-drawn') this._seedsDrawn(data.seeds)
       else if (data.type === 'pixels' || data.type === 'seeds-checked') {
         this._reads.get(data.id)?.(data)
         this._reads.delete(data.id)
@@ -57,8 +60,16 @@ export class WorkerBoard {
     this.worker.postMessage({ type: 'clear' })
   }
 
+  /** An effect started: with the next frame, or at once where the worker draws a seeds room on its own. */
   command (command) {
-    this._commands.push(command)
+    if (this._onSeeds !== null) this.worker.postMessage({ type: 'commands', commands: [command] })
+    else this._commands.push(command)
+  }
+
+  /** @param {boolean} reduced prefers-reduced-motion */
+  motion (reduced) {
+    this._reducedMotion = reduced
+    this.worker.postMessage({ type: 'motion', reduced })
   }
 
   /** @param {import('./room-view.js').BallPose[]} poses @param {number} now @param {boolean} reducedMotion @param {object} [trail] */
@@ -87,16 +98,22 @@ export class WorkerBoard {
   }
 
   /**
-   * Seeds mode: the joined room is simulated in the worker from now on
-   * (board-worker-room.js), replacing any room it had; `onReport` hears
-   * each drawn frame's FrameReport.
+   * Seeds mode: the joined room is simulated and drawn in the worker from
+   * now on, on the worker's own animation frames (board-worker-room.js
+   * drive()), replacing any room it had; `onReport` hears its reports.
    * @param {{ room: string, rows: number, risk: string, engineVersion: string }} spec
    * @param {(report: import('./board-worker-room.js').FrameReport) => void} onReport
    */
   openSeedsRoom (spec, onReport) {
     this._seedsGeneration++
     this._onSeeds = onReport
-    this.worker.postMessage({ type: 'seeds-open', generation: this._seedsGeneration, ...spec })
+    for (const command of this._takeCommands()) this.worker.postMessage({ type: 'commands', commands: [command] })
+    this.worker.postMessage({ type: 'seeds-open', generation: this._seedsGeneration, pageTimeOrigin: performance.timeOrigin, reducedMotion: this._reducedMotion, ...spec })
+  }
+
+  /** The room clock's line moved (room-clock.js): the worker's render tick follows it. @param {import('./room-clock.js').ClockLine | null} line */
+  seedsClock (line) {
+    this.worker.postMessage({ type: 'seeds-clock', line })
   }
 
   /** No room simulated in the worker any more. */
@@ -129,16 +146,6 @@ export class WorkerBoard {
     })
   }
 
-  /**
-   * A seeds-mode frame: the worker poses its room's balls at render tick
-   * `tick` itself (null: no clock sample yet), so only the tick and the
-   * effect commands go over.
-   * @param {number | null} tick @param {number} now @param {boolean} reducedMotion
-   */
-  seedsFrame (tick, now, reducedMotion) {
-    this._queue({ type: 'frame', poses: null, seedsTick: tick, now, reducedMotion, trail: undefined, commands: this._takeCommands() })
-  }
-
   /** The canvas's pixels, read in the worker (for tests). */
   pixels () {
     const id = this._nextRead++
@@ -154,12 +161,19 @@ export class WorkerBoard {
     this.worker.postMessage(frame, frame.poses ? [frame.poses.buffer] : [])
   }
 
-  _drawn ({ poses, stats, seeds }) {
+  _drawn ({ poses, stats }) {
     if (poses) this._spare.push(poses)
     this._inFlight = false
     if (stats) this.onDrawn(stats)
-    if (seeds && seeds.generation === this._seedsGeneration) this._onSeeds?.(seeds)
     if (this._waiting) this._post(this._waiting)
+  }
+
+  /** The frames the worker drew on its own since its last report (a room opened since: dropped). @param {import('./board-worker-room.js').DrivenReport & { generation: number }} seeds */
+  _seedsDrawn (seeds) {
+    if (seeds.generation !== this._seedsGeneration) return
+    const { frames, trails, floaterClearance } = seeds.drawn
+    if (frames > 0) this.onDrawn({ trails, floaterClearance, frames })
+    this._onSeeds?.(seeds)
   }
 
   /** A spare pose buffer with room for `count` balls (a new one if none has). */

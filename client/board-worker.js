@@ -16,8 +16,14 @@ import { WorkerRoom } from './board-worker-room.js'
  * any), { type: 'seeds-close' } ends it, { type: 'seeds-add', drop },
  * { type: 'seeds-complete', dropId }, { type: 'seeds-trace', on } and
  * { type: 'seeds-check', id, tick, hash } (answered { type: 'seeds-checked',
- * id, result }); a frame then carries `seedsTick` (the render tick) instead
- * of poses, and its `drawn` answer the room's FrameReport as `seeds`.
+ * id, result }). The seeds room is drawn on the worker's own animation
+ * frames (WorkerRoom.drive), opened with the page's time origin and
+ * prefers-reduced-motion: the page sends no frames but
+ * { type: 'seeds-clock', line } when its room clock moves, { type:
+ * 'commands', commands } as effects start and { type: 'motion', reduced };
+ * the worker answers { type: 'seeds-drawn', seeds } (a DrivenReport) when
+ * something happened or its counters are due. Frames stop while nothing
+ * moves and start again with the next message that changes the picture.
  */
 
 /** @type {BoardPainter | null} */
@@ -25,8 +31,39 @@ let painter = null
 /** @type {WorkerRoom | null} the joined room's simulation (seeds mode) */
 let room = null
 let generation = 0
+/** The page's time origin, for frames the worker times itself (page time = this worker's origin + now − it). */
+let pageTimeOrigin = 0
+let reducedMotion = false
+/** Something besides the balls changed since the seeds room's last frame. */
+let changed = false
+let frameRequested = false
 
-const EMPTY = new Float64Array(0)
+const nextFrame = typeof self.requestAnimationFrame === 'function'
+  ? (callback) => self.requestAnimationFrame(callback)
+  : (callback) => setTimeout(callback, 16)
+
+/** The seeds room needs a frame: one is asked for (once). */
+function wake () {
+  if (frameRequested || !room || !painter) return
+  frameRequested = true
+  nextFrame(drivenFrame)
+}
+
+function drivenFrame () {
+  frameRequested = false
+  if (!room || !painter) return
+  const now = performance.timeOrigin + performance.now() - pageTimeOrigin
+  const { report, moving } = room.drive(painter, now, { reducedMotion, changed })
+  changed = false
+  if (report) self.postMessage({ type: 'seeds-drawn', seeds: { generation, ...report } })
+  if (moving) wake()
+}
+
+/** The picture changed besides the balls: the seeds room's next frame draws it. */
+function changedPicture () {
+  changed = true
+  wake()
+}
 
 self.onmessage = ({ data }) => {
   switch (data.type) {
@@ -35,33 +72,45 @@ self.onmessage = ({ data }) => {
       break
     case 'layout':
       painter.setLayout(data.layout)
+      changedPicture()
       break
     case 'clear':
       painter.clearEffects()
+      changedPicture()
       break
-    case 'frame': {
+    case 'commands':
+      for (const command of data.commands) painter?.apply(command)
+      changedPicture()
+      break
+    case 'motion':
+      reducedMotion = data.reduced
+      changedPicture()
+      break
+    case 'frame':
       for (const command of data.commands) painter.apply(command)
-      if (data.seedsTick === undefined) {
-        self.postMessage({ type: 'drawn', poses: data.poses, stats: painter.draw(data) }, [data.poses.buffer])
-        break
-      }
-      const seeded = room ? room.frame(data.seedsTick) : null
-      const stats = painter.draw({ ...data, poses: seeded?.poses ?? EMPTY, count: seeded?.count ?? 0 })
-      self.postMessage({ type: 'drawn', poses: null, stats, seeds: seeded ? { generation, ...seeded.report } : null })
+      self.postMessage({ type: 'drawn', poses: data.poses, stats: painter.draw(data) }, [data.poses.buffer])
       break
-    }
     case 'seeds-open':
       room = new WorkerRoom(data)
       generation = data.generation
+      pageTimeOrigin = data.pageTimeOrigin
+      reducedMotion = data.reducedMotion
+      changedPicture()
+      break
+    case 'seeds-clock':
+      if (room) room.line = data.line
+      wake()
       break
     case 'seeds-close':
       room = null
       break
     case 'seeds-add':
       room?.add(data.drop)
+      wake()
       break
     case 'seeds-complete':
       room?.complete(data.dropId)
+      wake()
       break
     case 'seeds-trace':
       room?.trace(data.on)

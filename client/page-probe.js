@@ -47,7 +47,7 @@ export function installProbe (page) {
     /** balls drawn in the last frame, and how many of them no announcement explains */
     get lastFrame () { return { ...loop.lastFrame } },
     get ownInFlight () { return connection.view ? connection.view.ownInFlight : 0 },
-    get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice(), floating: renderer.floaters.length } },
+    get effects () { return { ...renderer.effects, floaterTexts: renderer.floaterTexts.slice(), floating: renderer.floating } },
     get labels () { return renderer.labels.map((l) => ({ ...l })) },
     get sound () { return { muted: sound.muted, unlocked: sound.unlocked, state: sound.context ? sound.context.state : null, ...sound.played } },
     get recent () { return page.recent.entries.map((e) => ({ ...e })) },

@@ -23,12 +23,22 @@ export class RenderLoop {
   }
 
   start () {
-    const frame = (now) => {
-      requestAnimationFrame(frame)
+    /** The room whose frames the board worker draws on its own: no animation frame here meanwhile. @type {import('./worker-seeded-room.js').WorkerSeededRoom | null} */
+    this.parked = null
+    this._requested = false
+    this._frame = (now) => {
+      this._requested = false
       this.frame(now)
+      if (this.parked === null) this._request()
     }
-    requestAnimationFrame(frame)
+    this._request()
     setInterval(() => this.updateFooter(), 1000)
+  }
+
+  _request () {
+    if (this._requested) return
+    this._requested = true
+    requestAnimationFrame(this._frame)
   }
 
   frame (now) {
@@ -36,7 +46,7 @@ export class RenderLoop {
     // The first frame drawn (in a worker, answered after this frame's task), whether or not anything moves now.
     if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = performance.now()
     let poses = []
-    if (view?.drawsInWorker && timeline) return this.workerFrame(view, timeline.advance(now), now)
+    if (view?.drawsInWorker) return this.park(view)
     if (view && timeline) {
       const tick = timeline.advance(now)
       if (tick !== null) {
@@ -56,17 +66,32 @@ export class RenderLoop {
   }
 
   /**
-   * A frame of a room simulated in the board worker (worker-seeded-room.js):
-   * the render tick goes there; the peg hits and landings of the frames it
-   * drew come back and are played here.
+   * A room simulated and drawn in the board worker (worker-seeded-room.js)
+   * on the worker's own animation frames: this loop asks for none until
+   * the room is closed (an animation frame costs the main thread its
+   * rendering lifecycle even when nothing on the page changes), and plays
+   * what each of the worker's reports met: the sounds, the landings.
+   * @param {import('./worker-seeded-room.js').WorkerSeededRoom} view
    */
-  workerFrame (view, tick, now) {
-    view.lastTick = tick
+  park (view) {
+    this.parked = view
+    view.onReport = (report) => this.workerReported(view, report)
+    view.onClose = () => {
+      if (this.parked !== view) return
+      this.parked = null
+      this.idleDrawn = false
+      this._request()
+    }
+  }
+
+  /** @param {import('./worker-seeded-room.js').WorkerSeededRoom} view @param {import('./board-worker-room.js').DrivenReport} report */
+  workerReported (view, report) {
+    const { renderer } = this.page
+    const now = performance.now()
+    renderer.countDrawnEffects(report.drawn)
+    if (this.firstBoardFrameAt === null && renderer.frames > 0) this.firstBoardFrameAt = now
     this.lastFrame = { balls: view.balls, unknown: 0, mine: view.mineDrawn }
-    this.playEvents(view, now)
-    // Nothing moves (no ball on the board, none drawn): keep the last frame.
-    if (this.keepsLastFrame(view.drops.size > 0 || view.balls > 0)) return
-    this.page.renderer.drawSeeds(tick, now)
+    this.playEvents(view, now, { drawn: true })
   }
 
   /**
@@ -89,28 +114,32 @@ export class RenderLoop {
     this.trace.push({ now, tick, balls: poses.length, deviation, a: a ? a.tick : null, b: b ? b.tick : null })
   }
 
-  /** The peg hits and landings the view met since the last frame. */
-  playEvents (view, now) {
+  /**
+   * The peg hits and landings the view met since the last frame: their
+   * sounds, glows and pops (`drawn`: the worker drew the glows and pops
+   * already), and the results shown as balls land.
+   */
+  playEvents (view, now, { drawn = false } = {}) {
     const { renderer, sound } = this.page
     const rows = pegRowCount(view.board)
     for (const hit of view.pegHits) {
-      renderer.glowPeg(hit.peg, hit.mine, now)
+      if (!drawn) renderer.glowPeg(hit.peg, hit.mine, now)
       sound.pegTick(hit.row, rows, hit.mine)
     }
     view.pegHits.length = 0
-    for (const landing of view.landings) this.onLanding(view, landing, now)
+    for (const landing of view.landings) this.onLanding(view, landing, now, drawn)
     view.landings.length = 0
   }
 
   /** A ball reached its bucket on screen (the local simulation's landing). */
-  onLanding (view, landing, now) {
+  onLanding (view, landing, now, drawn = false) {
     const { renderer, sound, results } = this.page
     const multiplier = view.board.multipliers[landing.bucket]
-    // Shown from now on (a room simulated in the worker reports its landings a frame before they play).
+    // Shown from now on (a room simulated in the worker reports its landings after it drew them).
     landing.drop.landingShown = true
     if (!landing.stale) {
       landing.drop.landedOnScreenAt = now
-      renderer.flash(landing.bucket, landing.mine, now)
+      if (!drawn) renderer.flash(landing.bucket, landing.mine, now)
       sound.landing(multiplier, landing.mine)
     }
     results.landed(landing)

@@ -41,11 +41,14 @@ export class RoomClock {
   constructor ({ tickRate, rttMs = () => null }) {
     this.model = new TickModel({ tickRate, windowMs: RATE_WINDOW_MS, maxSamples: RATE_MAX_SAMPLES, minSamples: RATE_MIN_SAMPLES })
     this.rttMs = rttMs
-    /** @type {number | null} the tick drawn last */
-    this.renderTick = null
-    this.lastFrameAt = null
     this.stats = { observations: 0, snaps: 0 }
+    this.follower = new RenderTickFollower(this.stats)
+    /** Called after each observation (the line may have moved). @type {() => void} */
+    this.onChange = () => {}
   }
+
+  /** the tick drawn last */
+  get renderTick () { return this.follower.renderTick }
 
   /** ticks per ms, as measured */
   get rate () { return this.model.rate }
@@ -59,6 +62,7 @@ export class RoomClock {
     if (!Number.isFinite(tick) || !Number.isFinite(now)) return
     this.stats.observations++
     this.model.observe(tick, now)
+    this.onChange()
   }
 
   /** The room's tick at `now` by the model (fractional), or null before any observation. @param {number} now ms */
@@ -79,13 +83,18 @@ export class RoomClock {
    * @param {number} now ms
    */
   advance (now) {
-    const estimate = this.estimateAt(now)
-    if (estimate === null) return null
-    const target = estimate - this.delayMs * this.model.rate
-    const elapsed = this.lastFrameAt === null ? 0 : Math.max(0, now - this.lastFrameAt)
-    this.lastFrameAt = now
-    this.renderTick = advanceRenderTick(this.renderTick, target, elapsed, this.model.rate, this.stats)
-    return this.renderTick
+    return this.follower.advance(this.line, now)
+  }
+
+  /**
+   * Where the render tick is headed, as a line in page time (null before
+   * the first observation): what a room drawn elsewhere (the board worker,
+   * board-worker-room.js) needs to run the same clock; it changes only when
+   * the clock observes a tick (onChange).
+   * @returns {ClockLine | null}
+   */
+  get line () {
+    return this.model.offset === null ? null : { offset: this.model.offset, rate: this.model.rate }
   }
 
   /** Nothing to interpolate between in seeds mode: the shape of SnapshotTimeline.bracket(). */
@@ -95,3 +104,46 @@ export class RoomClock {
 }
 
 const NO_SNAPSHOTS = Object.freeze({ a: null, b: null })
+
+/**
+ * The room's tick by the clock's model: tick ≈ offset + now · rate (page time, ms).
+ * @typedef {{ offset: number, rate: number }} ClockLine
+ */
+
+/**
+ * The render tick at page time `now`: the model's tick one way plus
+ * SETTLE_MARGIN_MS ago. The room's tick now is the model's plus half the
+ * round trip, and the page draws one way plus the margin behind it: the
+ * round trip cancels out.
+ * @param {ClockLine} line @param {number} now ms
+ */
+export function renderTarget (line, now) {
+  return line.offset + (now - SETTLE_MARGIN_MS) * line.rate
+}
+
+/**
+ * The render tick as frames advance it towards renderTarget
+ * (tick-model.js advanceRenderTick: slewed, never backwards): one per
+ * place that draws a seeds room, the page's RoomClock or the board worker.
+ */
+export class RenderTickFollower {
+  /** @param {{ snaps: number }} [stats] where the snaps are counted */
+  constructor (stats = { snaps: 0 }) {
+    /** @type {number | null} the tick drawn last */
+    this.renderTick = null
+    this.lastFrameAt = null
+    this.stats = stats
+  }
+
+  /**
+   * The render tick at frame time `now` (fractional), or null without a line yet.
+   * @param {ClockLine | null} line @param {number} now ms (page time)
+   */
+  advance (line, now) {
+    if (line === null) return null
+    const elapsed = this.lastFrameAt === null ? 0 : Math.max(0, now - this.lastFrameAt)
+    this.lastFrameAt = now
+    this.renderTick = advanceRenderTick(this.renderTick, renderTarget(line, now), elapsed, line.rate, this.stats)
+    return this.renderTick
+  }
+}

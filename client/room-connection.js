@@ -142,10 +142,10 @@ export class RoomConnection {
     const worker = this.simulateInWorker ? renderer.worker : null
     if (message.delivery === 'seeds' && worker) {
       // The page simulates the room itself, in the board worker beside the drawing (board-worker-room.js).
-      this.view = new WorkerSeededRoom({ room: message.room, board, boardOf: parsed, worker })
+      this.timeline = new RoomClock({ tickRate: message.tickRate, rttMs: () => this.socket.rttMs })
+      this.view = new WorkerSeededRoom({ room: message.room, board, boardOf: parsed, worker, clock: this.timeline })
       // The worker is gone (the board is drawn here now): join again, to simulate the room here.
       renderer.onFallBack = () => { if (this.view instanceof WorkerSeededRoom) this.join(this.roomId) }
-      this.timeline = new RoomClock({ tickRate: message.tickRate, rttMs: () => this.socket.rttMs })
     } else if (message.delivery === 'seeds') {
       // The page simulates the room itself (seeded-room.js) at the room's tick.
       this.view = new SeededRoom({ room: message.room, board, boardFor: (engineVersion) => verifier.board(parsed.rows, parsed.risk, engineVersion) })

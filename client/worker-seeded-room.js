@@ -3,10 +3,12 @@
  * (board-worker-room.js): the same surface as SeededRoom (seeded-room.js)
  * for the rest of the page, with the simulation elsewhere. The page's
  * LocalDrops stay here; the worker gets a copy of each announced drop, the
- * render tick with each frame (board-worker-client.js seedsFrame) and the
- * desync checks, and answers each drawn frame with what the drawing met:
- * peg contacts and landings (played and shown here a frame later than the
- * worker drew them), the drops that left the board, and its counters.
+ * room clock's line whenever it moves (the worker advances the render tick
+ * on its own animation frames) and the desync checks, and reports what its
+ * frames met: peg contacts and landings (played and shown here as the
+ * report arrives, the worker having drawn their glows and pops), the drops
+ * that left the board, and its counters. The render loop hears each report
+ * (onReport) and runs no animation frame for the room itself.
  *
  * Money and verification do not depend on it: balances and results are
  * the server's, and a settled drop of the player's that the worker has not
@@ -24,8 +26,9 @@ export class WorkerSeededRoom {
    * @param {import('/engine/board.js').Board} options.board the room's board here (newest engine version the room runs)
    * @param {{ rows: number, risk: string }} options.boardOf
    * @param {import('./board-worker-client.js').WorkerBoard} options.worker
+   * @param {import('./room-clock.js').RoomClock} options.clock the room's clock: its line goes to the worker as it moves
    */
-  constructor ({ room, board, boardOf, worker }) {
+  constructor ({ room, board, boardOf, worker, clock }) {
     this.room = room
     this.board = board
     this.worker = worker
@@ -38,7 +41,6 @@ export class WorkerSeededRoom {
     /** @type {import('./room-view.js').PegHit[]} */
     this.pegHits = []
     this.unknownDrawn = 0
-    this.lastTick = null
     /** The worker's SeededRoom counters, as of its last frame. */
     this.stats = { drops: 0, steps: 0, fastForwarded: 0, fastForwardSteps: 0, checks: 0, mismatches: 0, frames: 0, frameMs: 0 }
     /** Balls the worker drew in its last frame, and of them the player's. */
@@ -47,7 +49,14 @@ export class WorkerSeededRoom {
     this._seen = new Set()
     /** @type {{ dropId: number, tick: number, x: number, y: number }[] | null} */
     this._trace = null
+    /** Hears each report, after this room took it in (the render loop: render-loop.js). @type {(report: import('./board-worker-room.js').DrivenReport) => void} */
+    this.onReport = () => {}
+    /** Called once, when the room is closed. */
+    this.onClose = () => {}
+    this.clock = clock
     worker.openSeedsRoom({ room, rows: boardOf.rows, risk: boardOf.risk, engineVersion: board.engineVersion }, (report) => this._report(report))
+    clock.onChange = () => worker.seedsClock(clock.line)
+    if (clock.line !== null) worker.seedsClock(clock.line)
   }
 
   /** Drawn positions (drop id, render tick, x, y), recorded in the worker while not null. */
@@ -89,20 +98,32 @@ export class WorkerSeededRoom {
    * @returns {Promise<{ ok: boolean, tick: number, server: string, local: string, balls: number } | null>} null: the room was left meanwhile
    */
   check (tick, hash) {
-    return this.worker.seedsCheck(tick, hash)
+    // Counted here as answered (the worker's reports come only while it draws).
+    return this.worker.seedsCheck(tick, hash).then((result) => {
+      if (result) {
+        this.stats.checks++
+        if (!result.ok) this.stats.mismatches++
+      }
+      return result
+    })
   }
 
   /** Another room (or delivery) replaces this one: the worker stops simulating it. */
   close () {
+    this.clock.onChange = () => {}
     this.worker.closeSeedsRoom()
+    const onClose = this.onClose
+    this.onClose = () => {}
+    onClose()
   }
 
-  /** @param {import('./board-worker-room.js').FrameReport} report */
+  /** @param {import('./board-worker-room.js').DrivenReport} report */
   _report (report) {
     this.balls = report.balls
     this.mineDrawn = report.mine
-    // Drops are counted here as they are put on the board (the worker's count trails by the messages on their way).
-    const { drops, ...counters } = report.stats
+    // Drops are counted here as they are put on the board (the worker's count trails by the messages on their way),
+    // and checks as they are answered.
+    const { drops, checks, mismatches, ...counters } = report.stats
     Object.assign(this.stats, counters)
     for (const hit of report.pegHits) this.pegHits.push(hit)
     for (const landing of report.landings) {
@@ -110,13 +131,14 @@ export class WorkerSeededRoom {
       if (!drop) continue
       if (drop.ticks === null) Object.assign(drop, { bucket: landing.bucket, ticks: landing.ticks, stateHash: landing.stateHash })
       if (!drop.mine && landing.result) drop.result = landing.result
-      // Not landingShown yet: that is when the render loop plays it, next frame (a `settled` coming
-      // in between must wait for it, or its payout would not float).
+      // Not landingShown yet: that is when the render loop plays it (onReport; a `settled` coming
+      // before it must wait for it, or its payout would not float).
       this.landings.push({ bucket: landing.bucket, mine: drop.mine, dropId: drop.dropId, drop, stale: landing.stale })
     }
     for (const dropId of report.retired) this.drops.delete(dropId)
     if (this._trace && report.trace) {
       for (const point of report.trace) if (this._trace.length < MAX_TRACE) this._trace.push(point)
     }
+    this.onReport(report)
   }
 }

@@ -106,6 +106,12 @@ describe('seeds delivery on the player page', () => {
     expect(await page.evaluate(() => window.__plinko.simulatedIn)).toBe(simulatedIn)
     const joinedWith = await page.evaluate(() => window.__plinko.seeds.room.drops)
     expect(joinedWith).toBeGreaterThan(0)
+    // The main thread's animation frames from here on: a room the worker simulates is drawn on the worker's own.
+    await page.evaluate(() => {
+      window.__animationFramesAsked = 0
+      const ask = window.requestAnimationFrame.bind(window)
+      window.requestAnimationFrame = (callback) => { window.__animationFramesAsked++; return ask(callback) }
+    })
     // One more drop: its batch carries a desync check whatever the timing.
     await dropper.click('#drop')
     await waitInPage(page, 'the balls to land and a desync check', () => {
@@ -113,6 +119,9 @@ describe('seeds delivery on the player page', () => {
       return seeds.room.checks > 0 && window.__plinko.lastFrame.balls === 0 && seeds.trace.length > 0
     })
     const seeds = await page.evaluate(() => window.__plinko.seeds)
+    const animationFramesAsked = await page.evaluate(() => window.__animationFramesAsked)
+    if (simulatedIn === 'worker') expect(animationFramesAsked).toBe(0)
+    else expect(animationFramesAsked).toBeGreaterThan(30)
     const { compared, worst, drops } = await compareWithEngine(seeds.trace)
     console.info(`[e2e] late joiner (simulated ${where}): ${drops} drops, ${compared} drawn positions, largest difference from the engine ${worst} px; ${JSON.stringify(seeds.room)}; frames by kind ${JSON.stringify(kinds)}`)
     expect(compared).toBeGreaterThan(50)
