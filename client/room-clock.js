@@ -83,7 +83,8 @@ export class RoomClock {
    * @param {number} now ms
    */
   advance (now) {
-    return this.follower.advance(this.line, now)
+    // The model has the line's shape (offset, rate): no object a frame.
+    return this.follower.advance(this.model.offset === null ? null : this.model, now)
   }
 
   /**
@@ -111,10 +112,10 @@ const NO_SNAPSHOTS = Object.freeze({ a: null, b: null })
  */
 
 /**
- * The render tick at page time `now`: the model's tick one way plus
- * SETTLE_MARGIN_MS ago. The room's tick now is the model's plus half the
- * round trip, and the page draws one way plus the margin behind it: the
- * round trip cancels out.
+ * The render tick at page time `now`: the model's tick SETTLE_MARGIN_MS
+ * ago. The room's tick now is the model's (as of arrival) plus half the
+ * round trip, and the page draws one way plus the margin behind the room:
+ * the round trip cancels out.
  * @param {ClockLine} line @param {number} now ms
  */
 export function renderTarget (line, now) {
