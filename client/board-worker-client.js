@@ -14,7 +14,7 @@ export class WorkerBoard {
   /**
    * @param {HTMLCanvasElement} canvas not yet drawn on (it becomes the worker's)
    * @param {string | URL} url the worker script
-   * @param {{ onDrawn: (stats: { trails: number, floaterClearance: number | null }) => void, onError: (error: unknown) => void }} handlers
+   * @param {{ onDrawn: (stats: { trails: number, floaterClearance: number | null, frames?: number }) => void, onError: (error: unknown) => void }} handlers frames: how many frames the stats cover (1 if absent)
    */
   constructor (canvas, url, { onDrawn, onError }) {
     this.onDrawn = onDrawn

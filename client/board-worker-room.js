@@ -9,11 +9,11 @@ export const REPORT_EVERY_MS = 250
 /**
  * The joined room's seeds-mode simulation, run in the board worker
  * (board-worker.js) beside the painter: the page's main thread sends the
- * announced drops and, each animation frame, the render tick from its room
- * clock; here every ball is stepped and posed (seeded-room.js, the same
- * code as on the main thread) and packed for the painter, so the
- * simulation, the poses and their hand-over leave the main thread. What
- * the page needs back rides in each frame's answer (a FrameReport): the
+ * announced drops and its room clock's line; here every ball is stepped
+ * and posed (seeded-room.js, the same code as on the main thread) and
+ * packed for the painter, so the simulation, the poses and their
+ * hand-over leave the main thread. What the page needs back rides in a
+ * frame's report (a FrameReport): the
  * peg contacts and landings the drawing met (sound, effects, the results
  * shown as balls land), the drops that left the board, the balls drawn and
  * the simulation's counters; the desync check is answered on its own.

@@ -40,7 +40,7 @@ export class RoomConnection {
     this.view = null
     /**
      * Where a seeds room is simulated: in the board worker beside the drawing, when the board
-     * is drawn there (measured 0.6–3 ms less main thread a frame at 100 balls, docs/client.md),
+     * is drawn there (at 100 balls 2.0–2.8 ms of main thread a frame against 3.9–7.9, docs/client.md),
      * or on the main thread with `?simulation=main` (and wherever the board is drawn on it).
      */
     this.simulateInWorker = new URLSearchParams(location.search).get('simulation') !== 'main'

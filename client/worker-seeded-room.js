@@ -32,7 +32,7 @@ export class WorkerSeededRoom {
     this.room = room
     this.board = board
     this.worker = worker
-    /** The worker poses and draws the balls: the render loop sends it the tick only. */
+    /** The worker poses and draws the balls on its own animation frames: the render loop asks for none meanwhile. */
     this.drawsInWorker = true
     /** @type {Map<number, import('./drop-verifier.js').LocalDrop>} on the board: announced, not yet faded out */
     this.drops = new Map()
