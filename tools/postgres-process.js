@@ -20,9 +20,11 @@ import { freePort } from './free-port.js'
  *
  * Durability settings (fsync, synchronous_commit) are off: the cluster is
  * deleted after the run, and the tests check behaviour, not crash safety of
- * PostgreSQL itself.
+ * PostgreSQL itself. `durable: true` keeps PostgreSQL's own (every commit
+ * flushed), for measurements whose latencies must include the flush.
+ * @param {{ durable?: boolean }} [options]
  */
-export async function startPostgres () {
+export async function startPostgres ({ durable = false } = {}) {
   const existing = process.env.PLINKO_TEST_POSTGRES_URL
   if (existing) return serverAt(existing, async () => {})
 
@@ -50,7 +52,7 @@ export async function startPostgres () {
     run('initdb', ['-D', dataDir, '-U', 'postgres', '--auth=trust', '-E', 'UTF8', '--no-sync', '--locale=C'])
     const port = await freePort()
     run('pg_ctl', ['-D', dataDir, '-l', path.join(dir, 'postgres.log'), '-w', '-t', '60', '-o',
-      `-p ${port} -k ${dir} -c listen_addresses=127.0.0.1 -c fsync=off -c synchronous_commit=off -c full_page_writes=off`,
+      `-p ${port} -k ${dir} -c listen_addresses=127.0.0.1${durable ? '' : ' -c fsync=off -c synchronous_commit=off -c full_page_writes=off'}`,
       'start'])
     started = true
     return serverAt(`postgres://postgres@127.0.0.1:${port}/postgres`, async () => {

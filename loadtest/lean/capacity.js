@@ -7,7 +7,11 @@
  * mode a fresh server (server/server.js, SQLite ledger) pinned to CPU 0
  * under the lean load generator on CPU 1 with the reference load (one drop
  * per player every 2 s, 20 Hz snapshots or 4 Hz drop events, --rooms
- * rooms), /metrics read every second. A step holds when every criterion
+ * rooms), /metrics read every second. --ledger postgres puts the ledger
+ * in a throwaway PostgreSQL (its own flush on every commit) on CPU 1 beside
+ * the generator, a fresh database per step, as a server beside its database
+ * host runs: the server's figures then leave out the database's own work
+ * (the SQLite writer thread is the server's). A step holds when every criterion
  * does (CRITERIA below); a mode stops stepping at its first step that does
  * not (--all: runs every step).
  *
@@ -20,10 +24,11 @@ import path from 'node:path'
 import { fileURLToPath } from 'node:url'
 import { parseCommandLine } from '../../cli/command-line.js'
 import { optionsOrExit } from '../../cli/usage-error.js'
-import { parseDuration, positiveInteger, deliveryMode } from '../driver/cli-args.js'
+import { parseDuration, positiveInteger, deliveryMode, UsageError } from '../driver/cli-args.js'
 import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 import { formatLeanSummary } from './lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
+import { startPostgres } from '../../tools/postgres-process.js'
 
 const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
 export const BEGIN_MARKER = '<!-- capacity:begin (written by npm run loadtest:capacity) -->'
@@ -49,6 +54,8 @@ export const USAGE = `usage: npm run loadtest:capacity -- [options]
   --floor-seconds TIME the floor's window per step (default 10s; 0 = no floor)
   --workers N          generator worker threads (default 1)
   --delivery LIST      modes to measure, side by side: snapshots,seeds (default both)
+  --ledger STORE       sqlite (default: a file beside the server, its writer thread on the server's core)
+                       or postgres (a throwaway PostgreSQL on the generator's core)
   --all                run every step, not only up to the first that fails
   --no-results         print only; do not write loadtest/RESULTS.md
   -h, --help`
@@ -68,8 +75,12 @@ const OPTIONS = {
   'floor-seconds': { type: 'string' },
   workers: { type: 'string' },
   delivery: { type: 'string' },
+  ledger: { type: 'string' },
   all: { type: 'boolean', default: false }
 }
+
+/** The ledgers a capacity run can put behind the server. */
+export const CAPACITY_LEDGERS = Object.freeze(['sqlite', 'postgres'])
 
 /** @param {string[]} argv */
 export function parseCapacityArgs (argv) {
@@ -85,9 +96,16 @@ export function parseCapacityArgs (argv) {
     floorSeconds: parseDuration(values['floor-seconds'] ?? '10s', 'floor-seconds'),
     workers: values.workers === undefined ? 1 : positiveInteger(values.workers, 'workers'),
     deliveries: [...new Set((values.delivery ?? DELIVERY_MODES.join(',')).split(',').map((raw) => deliveryMode(raw.trim(), 'delivery')))],
+    ledger: capacityLedger(values.ledger ?? 'sqlite'),
     all: values.all,
     writeResults: !values['no-results']
   }
+}
+
+/** @param {string} raw */
+function capacityLedger (raw) {
+  if (!CAPACITY_LEDGERS.includes(raw)) throw new UsageError(`--ledger must be one of ${CAPACITY_LEDGERS.join(', ')}, got ${raw}`)
+  return raw
 }
 
 /**
@@ -156,7 +174,7 @@ export function serverErrorCount (analysis) {
 }
 
 /** The markdown table of the steps, and the verdict. @param {ReturnType<typeof stepFigures>[]} steps @param {object} options */
-export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new Date() }) {
+export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 'sqlite', date = new Date() }) {
   const modes = [...new Set(steps.map((step) => step.delivery ?? 'snapshots'))]
   const bestOf = (mode) => {
     const held = steps.filter((step) => (step.delivery ?? 'snapshots') === mode && step.holds).map((step) => step.players)
@@ -165,7 +183,7 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new 
   const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
   const rows = steps.map((step) => `| ${step.players.toLocaleString('en-US')} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
   return [
-    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? 'server pinned to CPU 0 and the generator to CPU 1' : 'NOT pinned'}.`,
+    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}.`,
     '',
     `**Most players on one server process with every criterion met: ${modes.map((mode) => `${mode} ${bestOf(mode)}`).join(', ')}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).`,
     '',
@@ -177,6 +195,12 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, date = new 
 
 /** Where this command's table goes in loadtest/RESULTS.md. */
 export const CAPACITY_SECTION = Object.freeze({ begin: BEGIN_MARKER, end: END_MARKER, heading: 'Capacity (npm run loadtest:capacity)' })
+/** Where a --ledger postgres run's table goes: beside the SQLite one, not over it. */
+export const CAPACITY_POSTGRES_SECTION = Object.freeze({
+  begin: '<!-- capacity-postgres:begin (written by npm run loadtest:capacity -- --ledger postgres) -->',
+  end: '<!-- capacity-postgres:end -->',
+  heading: 'Capacity with the ledger in PostgreSQL (npm run loadtest:capacity -- --ledger postgres)'
+})
 
 /**
  * Replaces the text between a section's markers in `file` (or appends the
@@ -197,7 +221,9 @@ export function writeBetweenMarkers (file, body, { begin: beginMarker, end: endM
 async function main () {
   const options = optionsOrExit(parseCapacityArgs, process.argv.slice(2), USAGE)
   const pinned = canPin() && pinSelf('1')
-  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; delivery ${options.deliveries.join(' and ')}; ${pinned ? 'server on CPU 0, generator on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
+  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; delivery ${options.deliveries.join(' and ')}; ledger ${options.ledger}; ${pinned ? `server on CPU 0, generator${options.ledger === 'postgres' ? ' and PostgreSQL' : ''} on CPU 1` : 'NOT pinned (no taskset or one CPU)'}`)
+  // Started after pinning: its processes inherit the generator's CPU.
+  const postgres = options.ledger === 'postgres' ? await startPostgres({ durable: true }) : null
   const steps = []
   // Each mode steps on until its first failing step; the same generator and load for both.
   const stepping = new Set(options.deliveries)
@@ -206,7 +232,8 @@ async function main () {
     const floor = options.floorSeconds > 0 ? await measureFloor({ clients: players, seconds: options.floorSeconds, pin: pinned }) : null
     for (const delivery of options.deliveries) {
       if (!stepping.has(delivery)) continue
-      const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true, delivery })
+      const env = postgres ? { DATABASE_URL: await postgres.createDatabase() } : {}
+      const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true, delivery, env })
       const step = stepFigures(ours, floor)
       steps.push(step)
       console.log(`${players} players, ${delivery}: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerPlayerSecond, 0)} µs per player-second, ${f(step.serverUsPerDrop, 0)} µs per drop, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms${delivery === 'seeds' ? `; seen by the room p99 ${f(step.sightingP99Ms, 0)} ms` : ''}; ${f(step.framesPerSecondPerPlayer, 2)} frames/s and ${f(step.bytesPerSecondPerPlayer / 1000, 2)} KB/s per player; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
@@ -214,10 +241,11 @@ async function main () {
       if (!step.holds && !options.all) stepping.delete(delivery)
     }
   }
-  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned })
+  await postgres?.stop()
+  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger })
   console.log(`\n${markdown}`)
   if (options.writeResults) {
-    writeBetweenMarkers(RESULTS, markdown)
+    writeBetweenMarkers(RESULTS, markdown, options.ledger === 'postgres' ? CAPACITY_POSTGRES_SECTION : CAPACITY_SECTION)
     console.log(`\nwritten to ${path.relative(process.cwd(), RESULTS)}`)
   }
 }

@@ -18,7 +18,11 @@ export const DESYNC_CHECK_SECONDS = 2
  * seen the ball land by then, and a frame less per drop is a write less
  * per socket. Held messages go out on their own first whenever anything
  * else is sent to that socket, or it leaves or closes, so its messages and
- * balances keep their order (Connection.sendDeferred). Nothing else: a room
+ * balances keep their order (Connection.sendDeferred). A due frame waits
+ * while a drop released before its tick is still being committed, for at
+ * most half a period: sent as soon as that commit is done, the drop reaches
+ * the room then instead of a period later (the commit overlaps the wait for
+ * the frame); still one frame a period. Nothing else: a room
  * where nothing happens sends nothing. Other players' settlements are not
  * sent (the page computes the landing; the facts are fetched on demand).
  * @type {import('./deliveries.js').Delivery}
@@ -41,6 +45,10 @@ class SeedFeed {
     this.hasher = new FlightHasher()
     /** Sockets holding a `settled` for the next frame. @type {Set<import('./connection.js').Connection>} */
     this.owed = new Set()
+    /** The due tick of a frame held for drops still being committed, or -1. */
+    this.heldSince = -1
+    /** Most ticks a due frame is held (half a period: then it goes with what is announced). */
+    this.maxHold = room.eventEvery >> 1
   }
 
   /** @param {import('./connection.js').Connection} client @param {string} text */
@@ -74,9 +82,19 @@ class SeedFeed {
     if (this.clients.size === 0) {
       // Nobody to tell: a later joiner gets these balls in `joined` instead.
       this.pending.length = 0
+      this.heldSince = -1
       return
     }
-    if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
+    if (this.heldSince >= 0) {
+      if (tick - this.heldSince < this.maxHold && room.awaitsCommitBefore(this.heldSince)) return
+      this.heldSince = -1
+    } else {
+      if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
+      if (this.maxHold > 0 && room.awaitsCommitBefore(tick)) {
+        this.heldSince = tick
+        return
+      }
+    }
     const forEveryone = this.pending.length > 0 || (room.visibleCount > 0 && tick - this.lastFrameTick >= room.checkEvery)
     if (!forEveryone && this.owed.size === 0) return
     // A period's drops fit one frame: at most MAX_BALLS_PER_ROOM (≤ 4,096) are in flight,

@@ -50,6 +50,13 @@ export class Room {
     this.visible = new Uint8Array(64)
     this.visibleCount = 0
     this._discarded = 0
+    /**
+     * Released drops, in release order, from the oldest that may still wait
+     * for its commit (`_unannouncedHead`); those settled one way or another
+     * (announced, voided, landed) are skipped lazily. @type {import('../game/drop.js').Drop[]}
+     */
+    this._unannounced = []
+    this._unannouncedHead = 0
   }
 
   /**
@@ -109,11 +116,44 @@ export class Room {
     const slot = this.simulator.addDrop(drop.dropSeed, drop)
     drop.slot = slot
     this.balls[slot] = drop
+    this._unannounced.push(drop)
     if (slot >= this.visible.length) {
       const grown = new Uint8Array(Math.max(slot + 1, this.visible.length * 2))
       grown.set(this.visible)
       this.visible = grown
     }
+  }
+
+  /**
+   * Whether a drop released before `tick` (its start tick lower) still waits
+   * for its commit: neither announced nor voided, its ball still falling.
+   * The seeds feed holds a due frame for such drops (delivery-seeds.js).
+   * @param {number} tick
+   */
+  awaitsCommitBefore (tick) {
+    this._skipSettled()
+    const queue = this._unannounced
+    return this._unannouncedHead < queue.length && queue[this._unannouncedHead].startTick < tick
+  }
+
+  /** Moves the head of `_unannounced` past drops announced, voided or landed, and lets go of them. */
+  _skipSettled () {
+    const queue = this._unannounced
+    let head = this._unannouncedHead
+    while (head < queue.length) {
+      const drop = queue[head]
+      if (!drop.announced && !drop.void && this.balls[drop.slot] === drop) break
+      head++
+    }
+    if (head === queue.length) {
+      queue.length = 0
+      head = 0
+    } else if (head > 64 && head > queue.length >> 1) {
+      queue.copyWithin(0, head)
+      queue.length -= head
+      head = 0
+    }
+    this._unannouncedHead = head
   }
 
   /** Makes an announced drop's ball visible, if it is still in flight. @param {import('../game/drop.js').Drop} drop */
@@ -143,6 +183,7 @@ export class Room {
   step (onLanded) {
     const landed = this.simulator.step()
     this.tick++
+    this._skipSettled()
     for (let i = 0; i < landed.length; i++) {
       const ball = landed[i]
       const slot = ball.body

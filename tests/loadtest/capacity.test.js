@@ -2,7 +2,7 @@ import { describe, it, expect } from 'vitest'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { stepFigures, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER } from '../../loadtest/lean/capacity.js'
+import { stepFigures, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER, CAPACITY_POSTGRES_SECTION } from '../../loadtest/lean/capacity.js'
 import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
@@ -84,6 +84,22 @@ describe('capacity steps', () => {
     expect(parseCapacityArgs(['--delivery', 'seeds'])).toMatchObject({ deliveries: ['seeds'] })
     expect(() => parseCapacityArgs(['--delivery', 'seeds,pixels'])).toThrow(/--delivery must be one of snapshots, seeds/)
     expect(() => parseCapacityArgs(['--steps', '1000,x'])).toThrow(/positive integer/)
+    expect(parseCapacityArgs([]).ledger).toBe('sqlite')
+    expect(parseCapacityArgs(['--ledger', 'postgres']).ledger).toBe('postgres')
+    expect(() => parseCapacityArgs(['--ledger', 'redis'])).toThrow(/--ledger must be one of sqlite, postgres, got redis/)
+  })
+
+  it('says which ledger the table was measured with, and keeps a PostgreSQL table beside the SQLite one', () => {
+    const steps = [stepFigures(ours(), null)]
+    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true })).toContain('generator to CPU 1, SQLite ledger.')
+    const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, ledger: 'postgres' })
+    expect(markdown).toContain('generator and PostgreSQL to CPU 1, PostgreSQL ledger (flushed on every commit).')
+    const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-capacity-')), 'RESULTS.md')
+    fs.writeFileSync(file, `# Results\n\n${BEGIN_MARKER}\nsqlite table\n${END_MARKER}\n`)
+    writeBetweenMarkers(file, markdown, CAPACITY_POSTGRES_SECTION)
+    const text = fs.readFileSync(file, 'utf8')
+    expect(text).toContain('sqlite table')
+    expect(text).toContain(`${CAPACITY_POSTGRES_SECTION.begin}\n${markdown}\n${CAPACITY_POSTGRES_SECTION.end}`)
   })
 })
 

@@ -127,7 +127,8 @@ describe("the seeds delivery's owner section", () => {
     connection.authenticated(account)
     const room = {
       id: '8-low', tick: 15, snapshotPhase: 0, eventEvery: 15, checkEvery: 120, visibleCount: 0, visible: new Uint8Array(0),
-      simulator: { world: { bodyCount: 0 } }
+      simulator: { world: { bodyCount: 0 } },
+      awaitsCommitBefore: () => false // no drop being committed
     }
     const feed = seedsDelivery.createFeed(room)
     feed.clients.add(connection)

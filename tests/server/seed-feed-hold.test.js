@@ -1,0 +1,169 @@
+import { describe, it, expect } from 'vitest'
+import { createBoard } from '../../engine/index.js'
+import { Room } from '../../server/rooms/room.js'
+import { createDrop } from '../../server/game/drop.js'
+import { seedsDelivery } from '../../server/realtime/delivery-seeds.js'
+import { decodeDropEvents } from '../../protocol/drop-events-codec.js'
+
+/**
+ * The seeds feed's frame waits for a commit in progress: a frame due while
+ * a drop released before it is still being committed goes out as soon as
+ * that drop is announced (at most half a period late), and the period's
+ * grid stays where it was. A real Room and SeedFeed; the sockets are
+ * stand-ins that keep the frames they are sent, and the group commit is
+ * played by hand (announce = what DropLifecycle does once it is durable).
+ */
+
+const EVENT_EVERY = 15
+const MAX_HOLD = EVENT_EVERY >> 1
+
+function setUp () {
+  const room = new Room({ id: '10-low', board: createBoard({ rows: 10, risk: 'low' }), snapshotEvery: 3, eventEvery: EVENT_EVERY, checkEvery: 120 })
+  const watcher = standInSocket('aaaaaaaaaaaaaaaa')
+  const dropper = standInSocket('bbbbbbbbbbbbbbbb')
+  room.join(watcher, seedsDelivery)
+  room.join(dropper, seedsDelivery)
+  const tally = { eventFrames: 0, eventBytes: 0 }
+  let nextId = 1
+  return {
+    room,
+    watcher,
+    /** Accepts a drop of the dropper's at the room's current tick (its commit pending). */
+    release () {
+      const id = nextId++
+      const drop = createDrop({
+        id,
+        account: dropper.account,
+        room,
+        nonce: id,
+        dropSeed: id.toString(16).padStart(64, '0'),
+        bet: 10,
+        clientSeedChange: null,
+        ref: undefined,
+        origin: dropper
+      })
+      room.release(drop)
+      return drop
+    },
+    /** Its commit is done: what DropLifecycle._committed does for a drop. */
+    announce (drop) {
+      drop.announced = true
+      room.show(drop)
+      room.dropAnnounced(drop, '{}')
+    },
+    /** Steps the room to `tick`, each tick delivered as the arena does. */
+    stepTo (tick) {
+      while (room.tick < tick) {
+        room.step(() => {})
+        room.deliver(tally)
+      }
+    }
+  }
+}
+
+function standInSocket (playerId) {
+  return {
+    account: { playerId, seed: { id: `seed-${playerId}`, hash: 'h' }, clientSeed: 'c' },
+    frames: [],
+    takeDeferred: () => null,
+    sendEventFrame (bytes) {
+      this.frames.push(decodeDropEvents(bytes))
+      return true
+    }
+  }
+}
+
+const ids = (frame) => frame.events.map((e) => e.dropId)
+
+describe('seeds feed: a due frame waits for a commit in progress', () => {
+  it('sends the frame on the tick after the commit, not a period later, and keeps the grid', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(10)
+    const drop = release() // start tick 10, committed only after the frame of tick 15 was due
+    stepTo(15)
+    expect(watcher.frames).toEqual([])
+    stepTo(17)
+    expect(watcher.frames).toEqual([])
+    announce(drop)
+    stepTo(18)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([18])
+    expect(ids(watcher.frames[0])).toEqual([drop.id])
+
+    // The next frame is due on the grid again (tick 30), not a period after 18.
+    const later = release()
+    announce(later)
+    stepTo(29)
+    expect(watcher.frames).toHaveLength(1)
+    stepTo(30)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([18, 30])
+    expect(ids(watcher.frames[1])).toEqual([later.id])
+  })
+
+  it('sends a due frame at once when every drop released before it is announced', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(5)
+    const drop = release()
+    announce(drop)
+    stepTo(15)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15])
+  })
+
+  it('waits only for drops released before the due tick', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(12)
+    const before = release()
+    stepTo(15)
+    const after = release() // start tick 15: accepted once the frame was due
+    stepTo(16)
+    announce(before)
+    stepTo(17)
+    // Sent although `after` is still being committed; it goes in the next frame.
+    expect(watcher.frames.map((f) => f.tick)).toEqual([17])
+    expect(ids(watcher.frames[0])).toEqual([before.id])
+    announce(after)
+    stepTo(30)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([17, 30])
+    expect(ids(watcher.frames[1])).toEqual([after.id])
+  })
+
+  it('holds a frame at most half a period: a slower commit comes in the next frame', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(3)
+    const announced = release()
+    announce(announced)
+    const slow = release()
+    stepTo(15 + MAX_HOLD - 1)
+    expect(watcher.frames).toEqual([])
+    stepTo(15 + MAX_HOLD)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15 + MAX_HOLD])
+    expect(ids(watcher.frames[0])).toEqual([announced.id])
+    announce(slow)
+    stepTo(30)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15 + MAX_HOLD, 30])
+    expect(ids(watcher.frames[1])).toEqual([slow.id])
+  })
+
+  it('stops waiting for a drop whose commit failed', () => {
+    const { room, watcher, release, announce, stepTo } = setUp()
+    stepTo(4)
+    const kept = release()
+    announce(kept)
+    const failed = release()
+    stepTo(16)
+    expect(watcher.frames).toEqual([])
+    room.discard(failed)
+    stepTo(17)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([17])
+    expect(ids(watcher.frames[0])).toEqual([kept.id])
+  })
+
+  it('lets go of the drops it tracked once they are announced', () => {
+    const { room, release, announce, stepTo } = setUp()
+    for (let i = 0; i < 500; i++) {
+      announce(release())
+      stepTo(room.tick + 1)
+    }
+    expect(room.awaitsCommitBefore(room.tick + 1)).toBe(false)
+    expect(room._unannounced.length).toBeLessThan(2)
+  })
+})
