@@ -50,13 +50,6 @@ export class Room {
     this.visible = new Uint8Array(64)
     this.visibleCount = 0
     this._discarded = 0
-    /**
-     * Released drops, in release order, from the oldest that may still wait
-     * for its commit (`_unannouncedHead`); those settled one way or another
-     * (announced, voided, landed) are skipped lazily. @type {import('../game/drop.js').Drop[]}
-     */
-    this._unannounced = []
-    this._unannouncedHead = 0
   }
 
   /**
@@ -116,7 +109,6 @@ export class Room {
     const slot = this.simulator.addDrop(drop.dropSeed, drop)
     drop.slot = slot
     this.balls[slot] = drop
-    this._unannounced.push(drop)
     if (slot >= this.visible.length) {
       const grown = new Uint8Array(Math.max(slot + 1, this.visible.length * 2))
       grown.set(this.visible)
@@ -131,29 +123,13 @@ export class Room {
    * @param {number} tick
    */
   awaitsCommitBefore (tick) {
-    this._skipSettled()
-    const queue = this._unannounced
-    return this._unannouncedHead < queue.length && queue[this._unannouncedHead].startTick < tick
-  }
-
-  /** Moves the head of `_unannounced` past drops announced, voided or landed, and lets go of them. */
-  _skipSettled () {
-    const queue = this._unannounced
-    let head = this._unannouncedHead
-    while (head < queue.length) {
-      const drop = queue[head]
-      if (!drop.announced && !drop.void && this.balls[drop.slot] === drop) break
-      head++
+    // Asked on due ticks only (a few times a second): a look at the balls in flight, no state kept for it.
+    const balls = this.balls
+    for (let slot = 0; slot < balls.length; slot++) {
+      const drop = balls[slot]
+      if (drop !== undefined && !drop.announced && !drop.void && drop.startTick < tick) return true
     }
-    if (head === queue.length) {
-      queue.length = 0
-      head = 0
-    } else if (head > 64 && head > queue.length >> 1) {
-      queue.copyWithin(0, head)
-      queue.length -= head
-      head = 0
-    }
-    this._unannouncedHead = head
+    return false
   }
 
   /** Makes an announced drop's ball visible, if it is still in flight. @param {import('../game/drop.js').Drop} drop */
@@ -183,7 +159,6 @@ export class Room {
   step (onLanded) {
     const landed = this.simulator.step()
     this.tick++
-    this._skipSettled()
     for (let i = 0; i < landed.length; i++) {
       const ball = landed[i]
       const slot = ball.body

@@ -157,13 +157,16 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     expect(ids(watcher.frames[0])).toEqual([kept.id])
   })
 
-  it('lets go of the drops it tracked once they are announced', () => {
+  it('waits for no drop once every one released is announced, however many are in flight, and for one that is not', () => {
     const { room, release, announce, stepTo } = setUp()
     for (let i = 0; i < 500; i++) {
       announce(release())
       stepTo(room.tick + 1)
     }
+    expect(room.ballsInFlight).toBeGreaterThan(100)
     expect(room.awaitsCommitBefore(room.tick + 1)).toBe(false)
-    expect(room._unannounced.length).toBeLessThan(2)
+    release()
+    expect(room.awaitsCommitBefore(room.tick)).toBe(false) // released at this tick, not before it
+    expect(room.awaitsCommitBefore(room.tick + 1)).toBe(true)
   })
 })
