@@ -96,6 +96,7 @@ export class DropResults {
     const { connection, announcer, renderer } = this.page
     this.settledUnseen.delete(settled.dropId)
     this.showResult(settled, connection.view?.drops.get(settled.dropId)?.engineVersion, true)
+    this.rememberShown()
     announcer.result(settled)
     if (!live || settled.room !== connection.joinedRoom) return
     const now = performance.now()
@@ -141,9 +142,15 @@ export class DropResults {
         if (record.status !== 'settled') { this.ownDrops.add(record.id); continue }
         this.showResult({ dropId: record.id, room: record.room, bet: record.bet, payout: record.payout, multiplier: record.multiplier, bucket: record.bucket }, record.engineVersion, record.id > statsAfter)
       }
+      this.rememberShown()
     } catch (error) {
       this.page.notices.say(`Could not load this session's results: ${error.message}`, 'error')
     }
+  }
+
+  /** The results column's order, for the next reload (session-history.js). */
+  rememberShown () {
+    this.page.sessionHistory.rememberShown(this.page.recent.entries.map((entry) => entry.dropId).reverse())
   }
 
   resetSession () {
