@@ -70,8 +70,8 @@ class BenchClient {
     if (type === 'settled' && this.arena.accepting) this.drop()
   }
 
-  sendRoomFrame (frame) { this.snapshotBytes += frame.length; return true }
-  sendEventFrame (frame) { this.snapshotBytes += frame.length; return true }
+  sendRoomFrame (frame) { this.snapshotBytes += frame.payload.length; return true }
+  sendEventFrame (frame) { this.snapshotBytes += frame.payload.length; return true }
   sendError () { this.errors++ }
   drop () {
     this.arena.drop(this, { bet: 1 })

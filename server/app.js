@@ -11,6 +11,7 @@ import { modeOf } from './coordination/modes.js'
 import { SeedChanges } from './game/seed-changes.js'
 import { AuthGuard } from './limits/auth-guard.js'
 import { ConnectionLimits, connectionCeiling } from './limits/connection-limits.js'
+import { WEBSOCKET_OPTIONS } from './realtime/outgoing-message.js'
 import apiDocs from './routes/api-docs.js'
 import methodNotAllowed from './routes/method-not-allowed.js'
 import sessionRoutes from './routes/session.js'
@@ -164,7 +165,7 @@ async function registerPlugins (app, { config, arena, addressLimits }) {
   })
   app.addHook('onRoute', rateLimitBeforeAuth)
   await app.register(websocket, {
-    options: { maxPayload: config.wsMaxPayload },
+    options: { maxPayload: config.wsMaxPayload, ...WEBSOCKET_OPTIONS },
     // Settle every ball in flight and say goodbye before the sockets go;
     // sockets that never authenticated are closed too, or close would wait for them.
     preClose (done) {

@@ -3,6 +3,7 @@ import { GameError, ERROR_CODES, gameError } from '../errors.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
 import { toCredits } from '../game/money.js'
 import { holdWritesUntilEndOfTurn } from './write-batcher.js'
+import { OutgoingMessage, socketWriter } from './outgoing-message.js'
 import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
 import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
 import { clientMessageSchemas } from '../../protocol/client-messages.js'
@@ -42,6 +43,8 @@ export class Connection {
    */
   constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit, messageLimiter }) {
     this.socket = socket
+    /** Writes an OutgoingMessage to the socket (outgoing-message.js). */
+    this._write = socketWriter(socket)
     this.arena = arena
     this.parseMessage = parseMessage
     this.metrics = metrics
@@ -184,7 +187,7 @@ export class Connection {
     // Held messages go first, so the client sees every message, and every balance, in order.
     if (this._deferred.length > 0) this.sendDeferred()
     holdWritesUntilEndOfTurn(this.socket)
-    this.socket.send(text)
+    this._write(new OutgoingMessage(text))
     this.metrics.messagesOut.labels(type).inc()
     this.metrics.bytesOut.inc(Buffer.byteLength(text))
   }
@@ -227,7 +230,7 @@ export class Connection {
    * limit, the events alone are sent, as `{type:"events"}`. The send queue
    * is read once per frame; the caller counts the frames written (one
    * metrics update per room, not per socket).
-   * @param {Uint8Array} frame @param {string | null} events the frame's events as an `events` message (JSON text), or null
+   * @param {OutgoingMessage} frame the room's, one for all its sockets @param {string | null} events the frame's events as an `events` message (JSON text), or null
    * @returns {boolean} the frame was written
    */
   sendRoomFrame (frame, events) {
@@ -243,15 +246,14 @@ export class Connection {
       return false
     }
     holdWritesUntilEndOfTurn(this.socket)
-    this.socket.send(frame, { binary: true })
-    return true
+    return this._write(frame)
   }
 
   /**
    * A binary frame of events (the seeds delivery's drop-events frame): never
    * skipped, like any event; over the hard limit the client is closed. The
    * caller counts the frames written (one metrics update per room).
-   * @param {Uint8Array} frame
+   * @param {OutgoingMessage} frame the room's (one for all its sockets), or this socket's copy with its own messages
    * @returns {boolean} the frame was written
    */
   sendEventFrame (frame) {
@@ -261,8 +263,7 @@ export class Connection {
       return false
     }
     holdWritesUntilEndOfTurn(this.socket)
-    this.socket.send(frame, { binary: true })
-    return true
+    return this._write(frame)
   }
 
   /**

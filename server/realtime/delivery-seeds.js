@@ -1,5 +1,6 @@
 import { ENGINE_VERSIONS } from '../../engine/index.js'
 import { encodeDropEvents, withOwnMessages, FlightHasher } from '../../protocol/drop-events-codec.js'
+import { OutgoingMessage } from './outgoing-message.js'
 
 /** At most this long (seconds) between two desync checks while balls are in flight. */
 export const DESYNC_CHECK_SECONDS = 2
@@ -100,6 +101,8 @@ class SeedFeed {
     // A period's drops fit one frame: at most MAX_BALLS_PER_ROOM (≤ 4,096) are in flight,
     // and no ball lands within one period (≤ 1 s), far below MAX_EVENTS_PER_FRAME.
     const frame = encodeDropEvents(tick, this._flightHash(), this.pending)
+    // Framed for the wire once, on the first socket that takes it as it is.
+    const shared = new OutgoingMessage(frame)
     // A frame of one player's drops alone tells that player nothing it has not had in its `dropped`.
     const onlyDropsOf = soleDropper(this.pending)
     this.pending.length = 0
@@ -111,8 +114,8 @@ class SeedFeed {
       const own = owed.size > 0 ? client.takeDeferred() : null
       // Nothing for it: what it was owed went out on its own since, or the frame holds its own drops only.
       if (own === null && (!forEveryone || client.account === onlyDropsOf)) continue
-      const copy = own === null ? frame : withOwnMessages(frame, own)
-      if (client.sendEventFrame(copy)) { written++; bytes += copy.length }
+      const copy = own === null ? shared : new OutgoingMessage(withOwnMessages(frame, own))
+      if (client.sendEventFrame(copy)) { written++; bytes += copy.payload.length }
     }
     owed.clear()
     tally.eventFrames += written

@@ -1,6 +1,7 @@
 import { BODY_STRIDE, BODY_X, BODY_Y } from '../../engine/index.js'
 import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
 import { eventsMessageText } from '../../protocol/server-messages.js'
+import { OutgoingMessage } from './outgoing-message.js'
 
 /**
  * The `snapshots` delivery (the default): every `snapshotEvery` ticks the
@@ -55,12 +56,12 @@ class SnapshotFeed {
       if (events !== null) this._sendEvents(events)
       return
     }
-    const frame = events === null ? snapshot : encodeRoomFrame(events, snapshot)
+    const frame = new OutgoingMessage(events === null ? snapshot : encodeRoomFrame(events, snapshot))
     const eventsText = events === null ? null : eventsMessageText(room.id, events)
     let written = 0
     for (const client of this.clients) if (client.sendRoomFrame(frame, eventsText)) written++
     tally.snapshotFrames += written
-    tally.snapshotBytes += written * frame.length
+    tally.snapshotBytes += written * frame.payload.length
   }
 
   _sendQueuedEvents () {

@@ -6,6 +6,7 @@ import { TokenBucket } from '../../server/limits/token-bucket.js'
 import { seedsDelivery } from '../../server/realtime/delivery-seeds.js'
 import { emptyTally } from '../../server/realtime/deliveries.js'
 import { decodeDropEvents } from '../../protocol/drop-events-codec.js'
+import { OutgoingMessage } from '../../server/realtime/outgoing-message.js'
 
 /** A stand-in for a ws WebSocket whose send queue the test controls. */
 function fakeSocket () {
@@ -47,12 +48,12 @@ describe('Connection backpressure', () => {
     const { socket, metrics, connection, account } = setup()
     connection.authenticated(account)
     const frame = Buffer.from([1, 0, 0, 0, 0, 0, 0])
-    connection.sendRoomFrame(frame, null)
+    connection.sendRoomFrame(new OutgoingMessage(frame), null)
     expect(socket.sent.at(-1)).toBe(frame)
     socket.bufferedAmount = 1001
     const sent = socket.sent.length
-    connection.sendRoomFrame(frame, null)
-    connection.sendRoomFrame(frame, null)
+    connection.sendRoomFrame(new OutgoingMessage(frame), null)
+    connection.sendRoomFrame(new OutgoingMessage(frame), null)
     expect(socket.sent.length).toBe(sent)
     expect(await value(metrics, 'plinko_snapshots_skipped_total')).toBe(2)
     connection.sendEvent('{"type":"settled"}', 'settled')
@@ -64,7 +65,7 @@ describe('Connection backpressure', () => {
     const { socket, metrics, connection, account, released } = setup()
     connection.authenticated(account)
     socket.bufferedAmount = 5001
-    connection.sendRoomFrame(Buffer.from([1]), null)
+    connection.sendRoomFrame(new OutgoingMessage(Buffer.from([1])), null)
     expect(socket.closedWith).toEqual({ code: 1013, reason: 'E_SLOW_CONSUMER' })
     expect(socket.paused).toBe(true) // not read any more
     expect(await value(metrics, 'plinko_ws_slow_consumers_closed_total')).toBe(1)
@@ -85,10 +86,10 @@ describe('Connection backpressure', () => {
     seeds.connection.authenticated(seeds.account)
     const frame = new Uint8Array([3, 0, 0, 0, 0])
     seeds.socket.bufferedAmount = 4999
-    expect(seeds.connection.sendEventFrame(frame)).toBe(true)
+    expect(seeds.connection.sendEventFrame(new OutgoingMessage(frame))).toBe(true)
     expect(seeds.socket.sent.at(-1)).toBe(frame)
     seeds.socket.bufferedAmount = 5001
-    expect(seeds.connection.sendEventFrame(frame)).toBe(false)
+    expect(seeds.connection.sendEventFrame(new OutgoingMessage(frame))).toBe(false)
     expect(seeds.socket.closedWith.code).toBe(1013)
   })
 

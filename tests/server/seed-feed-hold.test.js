@@ -66,8 +66,8 @@ function standInSocket (playerId) {
     account: { playerId, seed: { id: `seed-${playerId}`, hash: 'h' }, clientSeed: 'c' },
     frames: [],
     takeDeferred: () => null,
-    sendEventFrame (bytes) {
-      this.frames.push(decodeDropEvents(bytes))
+    sendEventFrame (message) {
+      this.frames.push(decodeDropEvents(message.payload))
       return true
     }
   }
