@@ -271,9 +271,12 @@ function hexValue (code) {
   return -1
 }
 
+/** Every byte's two lowercase hex digits: a frame's seeds are read by table, not by toString(16) per byte. */
+const HEX_OF_BYTE = Array.from({ length: 256 }, (_, byte) => (byte < 16 ? '0' : '') + byte.toString(16))
+
 function readHex (bytes, at, length) {
   let text = ''
-  for (let i = at; i < at + length; i++) text += (bytes[i] < 16 ? '0' : '') + bytes[i].toString(16)
+  for (let i = at; i < at + length; i++) text += HEX_OF_BYTE[bytes[i]]
   return text
 }
 
