@@ -56,6 +56,24 @@ describe('messages framed once for the wire', () => {
     for (const client of clients) client.close()
   })
 
+  it('leaves no cleared idle timer on the socket to refresh on every write', async () => {
+    const { serverSockets, clients } = await connected(1)
+    const raw = serverSockets[0]._socket
+    // As an HTTP server leaves an upgraded socket: a timeout set, then cleared by ws (setTimeout(0)).
+    raw.setTimeout(30_000)
+    raw.setTimeout(0)
+    const timer = () => Object.getOwnPropertySymbols(raw).filter((key) => key.description === 'timeout').map((key) => raw[key])
+    expect(timer().some((t) => t !== null && t !== undefined)).toBe(true)
+    socketWriter(serverSockets[0])
+    expect(timer().every((t) => t === null || t === undefined)).toBe(true)
+    // A timeout set afterwards still works.
+    const timedOut = new Promise((resolve) => raw.once('timeout', resolve))
+    raw.setTimeout(20)
+    await timedOut
+    raw.setTimeout(0)
+    clients[0].close()
+  })
+
   it('writes nothing to a socket that is closing', async () => {
     const { serverSockets, clients } = await connected(1)
     const write = socketWriter(serverSockets[0])
