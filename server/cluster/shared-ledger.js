@@ -146,8 +146,8 @@ export class SharedLedgerStore extends PostgresStore {
   // ---- the batch ------------------------------------------------------------
 
   /**
-   * @param {import('../store/records.js').LedgerBatch} batch (its `balances` and `nonces` are
-   *   ignored: debits and credits are computed here from what the database accepts)
+   * @param {import('../store/records.js').LedgerBatch} batch (its `balances` are ignored:
+   *   debits and credits are computed here from what the database accepts)
    * @returns {Promise<{ rejected: Map<number, string>, settled: Set<number>, balances: Map<string, number> }>}
    */
   async commitBatch (batch) {

@@ -103,18 +103,16 @@ export function settlementRow ({ drop, bucket, multiplier, payout, ticks, stateH
 }
 
 /**
- * The rows one batch writes: new drops, settlements, one net balance change
- * per player (money.js), the highest nonce used per seed, client seeds
- * changed by `drop {clientSeed}`, and every player the batch touches (whose
- * committed balances the store returns).
+ * The rows one batch writes: new drops (each its nonce's record:
+ * records.js NEXT_NONCE_SQL), settlements, one net balance change per
+ * player (money.js), client seeds changed by `drop {clientSeed}`, and every
+ * player the batch touches (whose committed balances the store returns).
  * @param {{ drops: Drop[], settlements: Settlement[] }} batch
  * @returns {import('../store/records.js').LedgerBatch}
  */
 export function toLedgerBatch ({ drops, settlements }) {
-  const nonces = new Map()
   const clientSeeds = new Map()
   for (const drop of drops) {
-    nonces.set(drop.seedId, Math.max(nonces.get(drop.seedId) ?? 0, drop.nonce + 1))
     if (drop.clientSeedChange) clientSeeds.set(drop.playerId, drop.clientSeed)
   }
   const changes = balanceChanges(drops, settlements)
@@ -122,7 +120,6 @@ export function toLedgerBatch ({ drops, settlements }) {
     drops: drops.map(newDropRow),
     settlements: settlements.map(settlementRow),
     balances: [...changes].filter(([, delta]) => delta !== 0).map(([playerId, delta]) => ({ playerId, delta })),
-    nonces: [...nonces].map(([seedId, nextNonce]) => ({ seedId, nextNonce })),
     clientSeeds: [...clientSeeds].map(([playerId, clientSeed]) => ({ playerId, clientSeed })),
     players: [...changes.keys()]
   }
@@ -130,7 +127,7 @@ export function toLedgerBatch ({ drops, settlements }) {
 
 /** A batch that only sets a player's client seed (`POST /api/seeds/client`). @returns {import('../store/records.js').LedgerBatch} */
 export function clientSeedBatch (playerId, clientSeed) {
-  return { drops: [], settlements: [], balances: [], nonces: [], clientSeeds: [{ playerId, clientSeed }], players: [] }
+  return { drops: [], settlements: [], balances: [], clientSeeds: [{ playerId, clientSeed }], players: [] }
 }
 
 // ---- the group commit -------------------------------------------------------

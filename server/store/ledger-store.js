@@ -26,7 +26,7 @@
  * @property {(tokenHash: string) => Promise<string | null>} findPlayerIdByTokenHash
  * @property {(playerId: string) => Promise<LoadedAccount | null>} loadAccount
  * @property {(batch: import('./records.js').LedgerBatch) => Promise<import('../game/money.js').CommitOutcome>} commitBatch
- *   one transaction: new drops (their bets debited), settlements (payouts credited), nonces, client seeds;
+ *   one transaction: new drops (their bets debited; each its nonce's record), settlements (payouts credited), client seeds;
  *   a drop refused by the ledger is in `rejected` and nothing of it is written; a settlement of a drop that
  *   is not in flight is never credited (it is missing from `settled`, or the whole batch is refused with an
  *   error and nothing is written); returns every touched player's committed balance

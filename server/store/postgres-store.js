@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, newDropArrays, settlementArrays } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -80,7 +80,7 @@ export class PostgresStore {
 
   async loadAccount (playerId) {
     const { rows } = await this.pool.query(`SELECT p.id, p.balance, p.client_seed, p.created_at,
-        s.id AS seed_id, s.seed, s.hash, s.next_nonce
+        s.id AS seed_id, s.seed, s.hash, ${NEXT_NONCE_SQL.postgres} AS next_nonce
       FROM players p JOIN server_seeds s ON s.player_id = p.id AND s.active = 1
       WHERE p.id = $1`, [playerId])
     return rows[0] ? accountFromRow(rows[0]) : null
@@ -109,11 +109,6 @@ export class PostgresStore {
         columns(batch.balances, ['playerId', 'delta']))
         if (rowCount !== batch.balances.length) throw new Error('a player in the batch does not exist')
       }
-      if (batch.nonces.length > 0) {
-        await client.query(`UPDATE server_seeds AS s SET next_nonce = GREATEST(s.next_nonce, n.next_nonce)
-          FROM unnest($1::text[], $2::bigint[]) AS n (id, next_nonce) WHERE s.id = n.id`,
-        columns(batch.nonces, ['seedId', 'nextNonce']))
-      }
       if (batch.clientSeeds.length > 0) {
         await client.query(`UPDATE players AS p SET client_seed = c.client_seed
           FROM unnest($1::text[], $2::text[]) AS c (id, client_seed) WHERE p.id = c.id`,
@@ -130,8 +125,10 @@ export class PostgresStore {
 
   async rotateSeed ({ playerId, oldSeedId, newSeed, at }) {
     await this._transaction(async (client) => {
+      // A retired seed keeps its final count: what its reveal says it was used for.
       const { rowCount } = await client.query(
-        'UPDATE server_seeds SET active = 0, revealed_at = $1 WHERE id = $2 AND player_id = $3 AND active = 1',
+        `UPDATE server_seeds AS s SET active = 0, revealed_at = $1, next_nonce = ${NEXT_NONCE_SQL.postgres}
+          WHERE s.id = $2 AND s.player_id = $3 AND s.active = 1`,
         [at, oldSeedId, playerId])
       if (rowCount !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
       await insertSeed(client, playerId, newSeed, at)
@@ -177,9 +174,9 @@ export class PostgresStore {
   }
 
   async listSeeds (playerId) {
-    const { rows } = await this.pool.query(`SELECT id, hash, active, next_nonce, created_at, revealed_at,
-        CASE WHEN revealed_at IS NULL THEN NULL ELSE seed END AS revealed_seed
-      FROM server_seeds WHERE player_id = $1 ORDER BY created_at DESC, id`, [playerId])
+    const { rows } = await this.pool.query(`SELECT s.id, s.hash, s.active, ${NEXT_NONCE_SQL.postgres} AS next_nonce, s.created_at, s.revealed_at,
+        CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_seed
+      FROM server_seeds s WHERE s.player_id = $1 ORDER BY s.created_at DESC, s.id`, [playerId])
     return rows.map(seedFromRow)
   }
 

@@ -134,6 +134,21 @@ export function toDropRecord (row) {
   return record
 }
 
+/**
+ * A server seed's next nonce, as the ledger knows it: one past the highest
+ * nonce of its recorded drops (UNIQUE (server_seed_id, nonce) makes that a
+ * single index lookup), or its `next_nonce` column where that is higher (a
+ * retired seed's final count, a cluster's reserved blocks:
+ * cluster/shared-ledger.js). Batches do not write the column: a drop's row
+ * is its nonce's record, and a per-batch update of each seed's row was a
+ * write at a random place of the file per drop (loadtest/RESULTS.md). Over
+ * `server_seeds AS s`, in each dialect.
+ */
+export const NEXT_NONCE_SQL = Object.freeze({
+  sqlite: 'MAX(s.next_nonce, COALESCE((SELECT MAX(d.nonce) + 1 FROM drops d WHERE d.server_seed_id = s.id), 0))',
+  postgres: 'GREATEST(s.next_nonce, COALESCE((SELECT MAX(d.nonce) + 1 FROM drops d WHERE d.server_seed_id = s.id), 0))'
+})
+
 /** Columns of a drop plus its server seed when (and only when) revealed. */
 export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_server_seed`
 
@@ -159,7 +174,6 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
  * @property {NewDropRow[]} drops
  * @property {SettlementRow[]} settlements
  * @property {{ playerId: string, delta: number }[]} balances net change per player, milli-credits
- * @property {{ seedId: string, nextNonce: number }[]} nonces
  * @property {{ playerId: string, clientSeed: string }[]} clientSeeds
  * @property {string[]} [players] every player the batch touches: the store returns their committed balances
  */

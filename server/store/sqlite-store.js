@@ -1,6 +1,6 @@
 import { Worker } from 'node:worker_threads'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
@@ -95,7 +95,7 @@ export class SqliteStore {
 
   async loadAccount (playerId) {
     const row = this._sql(`SELECT p.id, p.balance, p.client_seed, p.created_at,
-        s.id AS seed_id, s.seed, s.hash, s.next_nonce
+        s.id AS seed_id, s.seed, s.hash, ${NEXT_NONCE_SQL.sqlite} AS next_nonce
       FROM players p JOIN server_seeds s ON s.player_id = p.id AND s.active = 1
       WHERE p.id = ?`).get(playerId)
     return row ? accountFromRow(row) : null
@@ -145,9 +145,9 @@ export class SqliteStore {
   }
 
   async listSeeds (playerId) {
-    return this._sql(`SELECT id, hash, active, next_nonce, created_at, revealed_at,
-        CASE WHEN revealed_at IS NULL THEN NULL ELSE seed END AS revealed_seed
-      FROM server_seeds WHERE player_id = ? ORDER BY created_at DESC, id`).all(playerId).map(seedFromRow)
+    return this._sql(`SELECT s.id, s.hash, s.active, ${NEXT_NONCE_SQL.sqlite} AS next_nonce, s.created_at, s.revealed_at,
+        CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_seed
+      FROM server_seeds s WHERE s.player_id = ? ORDER BY s.created_at DESC, s.id`).all(playerId).map(seedFromRow)
   }
 
   async roomStats (room, engineVersion) {

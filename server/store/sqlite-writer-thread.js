@@ -16,15 +16,15 @@
  * same transactions on its own connection), this file starts no thread.
  */
 import { isMainThread, parentPort, workerData } from 'node:worker_threads'
-import { wholeBatchCommitted, DROP_SQL, newDropValues, settlementValues } from './records.js'
+import { wholeBatchCommitted, DROP_SQL, NEXT_NONCE_SQL, newDropValues, settlementValues } from './records.js'
 import { openSqliteDatabase, withSqliteCode } from './sqlite-database.js'
 import { lowerThisThreadPriority } from './thread-priority.js'
 import { checkpointPassive } from './sqlite-checkpoint-thread.js'
 
 /**
  * Every write of the SQLite ledger, as transactions prepared on one
- * connection: the tick's batch (new drops, settlements, credits, nonces,
- * client seeds), a new player with its first server seed, and a seed
+ * connection: the tick's batch (new drops, settlements, credits, client
+ * seeds), a new player with its first server seed, and a seed
  * rotation. Each takes the write lock up front (BEGIN IMMEDIATE) and is
  * committed whole or rolled back. The store runs them on this thread (below),
  * so no write, and no wait for another process's write lock, ever holds the
@@ -36,12 +36,13 @@ export function prepareWrites (db) {
   const insertDrop = db.prepare(DROP_SQL.sqlite.insert)
   const settle = db.prepare(DROP_SQL.sqlite.settle)
   const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
-  const nonce = db.prepare('UPDATE server_seeds SET next_nonce = MAX(next_nonce, ?) WHERE id = ?')
   const clientSeed = db.prepare('UPDATE players SET client_seed = ? WHERE id = ?')
   const balanceOf = db.prepare('SELECT balance FROM players WHERE id = ?')
   const insertPlayer = db.prepare('INSERT INTO players (id, token_hash, balance, client_seed, created_at) VALUES (?, ?, ?, ?, ?)')
   const insertSeed = db.prepare('INSERT INTO server_seeds (id, player_id, seed, hash, active, next_nonce, created_at) VALUES (?, ?, ?, ?, 1, 0, ?)')
-  const retireSeed = db.prepare('UPDATE server_seeds SET active = 0, revealed_at = ? WHERE id = ? AND player_id = ? AND active = 1')
+  // A retired seed keeps its final count: what its reveal says it was used for.
+  const retireSeed = db.prepare(`UPDATE server_seeds AS s SET active = 0, revealed_at = ?, next_nonce = ${NEXT_NONCE_SQL.sqlite}
+    WHERE s.id = ? AND s.player_id = ? AND s.active = 1`)
 
   return {
     /**
@@ -59,7 +60,6 @@ export function prepareWrites (db) {
       for (const b of batch.balances) {
         if (credit.run(b.delta, b.playerId).changes !== 1) throw new Error(`no player ${b.playerId}`)
       }
-      for (const n of batch.nonces) nonce.run(n.nextNonce, n.seedId)
       for (const c of batch.clientSeeds) clientSeed.run(c.clientSeed, c.playerId)
       const balances = new Map()
       for (const playerId of batch.players ?? []) balances.set(playerId, Number(balanceOf.get(playerId)?.balance))

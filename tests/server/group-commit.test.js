@@ -88,14 +88,15 @@ describe('GroupCommit', () => {
     expect(committed).toHaveLength(1)
   })
 
-  it('nets balances per player and keeps the highest nonce per seed', () => {
+  it('nets balances per player; a drop\'s row is its nonce\'s record (no nonce rows)', () => {
     const rows = toLedgerBatch({
       drops: [drop(1, 'a'), drop(2, 'a', { clientSeedChange: { previous: 'c0' }, clientSeed: 'new' }), drop(3, 'b')],
       settlements: [{ drop: drop(9, 'a'), bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }]
     })
     // Milli-credits: a bet of 10 credits costs 10,000; the payout is already milli-credits.
     expect(rows.balances).toEqual([{ playerId: 'a', delta: -10_000 - 20_000 + 500 }, { playerId: 'b', delta: -30_000 }])
-    expect(rows.nonces).toEqual([{ seedId: 's-a', nextNonce: 3 }, { seedId: 's-b', nextNonce: 4 }])
+    expect(rows).not.toHaveProperty('nonces')
+    expect(rows.drops.map((d) => [d.serverSeedId, d.nonce])).toEqual([['s-a', 1], ['s-a', 2], ['s-b', 3]])
     expect(rows.clientSeeds).toEqual([{ playerId: 'a', clientSeed: 'new' }])
     expect(rows.settlements).toEqual([{ id: 9, bucket: 1, multiplier: 2, payout: 500, ticks: 100, stateHash: 'ff', settledAt: 5 }])
     expect(rows.drops[0]).toMatchObject({ id: 1, room: '8-low', serverSeedId: 's-a', dropSeed: 'd1' })

@@ -123,7 +123,6 @@ describe.each(STORE_KINDS)('recovery and persistence on %s', (kind) => {
         drops: [{ ...row, id: 1, nonce: 0, engineVersion: '0.0.1-old' }, { ...row, id: 2, nonce: 1, engineVersion: createBoard({ rows: 8, risk: 'low' }).engineVersion }],
         settlements: [],
         balances: [],
-        nonces: [{ seedId: 's1', nextNonce: 2 }],
         clientSeeds: []
       })
       expect(await settleInterruptedDrops(store, silentLog)).toEqual({ settled: 1, skipped: 1 })

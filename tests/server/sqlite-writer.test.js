@@ -35,7 +35,7 @@ afterEach(async () => {
 })
 
 const drop = (id) => ({ id, playerId: 'p1', room: '8-low', rows: 8, risk: 'low', engineVersion: '1.0.0', serverSeedId: 's1', serverSeedHash: 'b'.repeat(64), clientSeed: 'c', nonce: id, dropSeed: 'd'.repeat(64), bet: 10, payoutRule: 2, startTick: 0, createdAt: 2 })
-const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, nonces: [{ seedId: 's1', nextNonce: 100 }], clientSeeds: [] })
+const batch = (drops, settlements = [], balances = []) => ({ drops, settlements, balances, clientSeeds: [] })
 /** What the database file holds without its WAL: a copy of the file alone, read. */
 const databaseFileAlone = (sql) => {
   const copy = path.join(dir, 'alone.sqlite')

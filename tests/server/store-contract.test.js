@@ -38,7 +38,7 @@ function settlement (drop, multiplier) {
   return { drop, bucket: 3, multiplier, payout: payoutFor(drop.bet, multiplier), ticks: 180, stateHash: '0123456789abcdef', tick: drop.startTick + 180, settledAt: drop.createdAt + 3000 }
 }
 
-describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ backend: kind, open }) => {
+describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: kind, open }) => {
   const backend = storeBackend(kind)
   let store
   beforeAll(async () => {
@@ -142,5 +142,25 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ backend: kind, o
     const stats = await store.roomStats('16-medium', '2.0.0')
     expect(JSON.stringify(stats)).toMatch(/25/)
     expect(await store.roomStats('16-medium', '1.0.0')).not.toEqual(stats)
+  })
+
+  it("counts a seed's nonces from its recorded drops: the next is one past the highest, and a retired seed keeps its count", async () => {
+    // The cluster's ledger reserves nonces in blocks (cluster/shared-ledger.js): its counts are what it reserved, never less.
+    const account = await store.loadAccount('player-ada')
+    const from = account.seed.nextNonce
+    // Nonces from+1..from+5 were taken by drops that were never recorded (refused): the highest recorded counts.
+    await store.commitBatch(toLedgerBatch({ drops: [gameDrop(10, account, { nonce: from }), gameDrop(11, account, { nonce: from + 6 })], settlements: [] }))
+    const reloaded = (await store.loadAccount('player-ada')).seed.nextNonce
+    const listed = (await store.listSeeds('player-ada')).find((s) => s.active).nonce
+    for (const count of [reloaded, listed]) {
+      expect(count).toBeGreaterThanOrEqual(from + 7)
+      if (!name.includes('cluster')) expect(count).toBe(from + 7)
+    }
+    await store.rotateSeed({ playerId: 'player-ada', oldSeedId: account.seed.id, newSeed: seedNamed('ada-4'), at: Date.UTC(2026, 11, 1, 14) })
+    const retired = (await store.listSeeds('player-ada')).find((s) => s.serverSeedHash === account.seed.hash)
+    expect(retired).toMatchObject({ active: false })
+    expect(retired.nonce).toBeGreaterThanOrEqual(from + 7)
+    if (!name.includes('cluster')) expect(retired.nonce).toBe(from + 7)
+    if (!name.includes('cluster')) expect((await store.loadAccount('player-ada')).seed.nextNonce).toBe(0)
   })
 })
