@@ -145,14 +145,20 @@ export function encodeDropEvents (tick, hash, drops) {
  * @returns {Uint8Array}
  */
 export function withOwnMessages (frame, messages) {
-  const text = `[${messages.join(',')}]`.replace(NON_ASCII, (c) => `\\u${c.charCodeAt(0).toString(16).padStart(4, '0')}`)
+  let text = `[${messages.join(',')}]`
+  if (NON_ASCII.test(text)) text = text.replace(NON_ASCII_ALL, (c) => `\\u${c.charCodeAt(0).toString(16).padStart(4, '0')}`)
   const bytes = new Uint8Array(frame.length + text.length)
   bytes.set(frame)
-  for (let i = 0, at = frame.length; i < text.length; i++, at++) bytes[at] = text.charCodeAt(i)
+  // ASCII now, so its UTF-8 is one byte per character.
+  asciiEncoder ??= new TextEncoder()
+  asciiEncoder.encodeInto(text, bytes.subarray(frame.length))
   return bytes
 }
 
-const NON_ASCII = /[^\x00-\x7f]/g
+const NON_ASCII = /[^\x00-\x7f]/
+const NON_ASCII_ALL = /[^\x00-\x7f]/g
+// Made on first use: a reader of frames on a plain JavaScript engine (no TextEncoder) never needs it.
+let asciiEncoder = null
 
 /**
  * Decodes a drop-events frame; null for a frame of another kind, a
