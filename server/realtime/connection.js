@@ -2,8 +2,8 @@ import Ajv from 'ajv'
 import { GameError, ERROR_CODES, gameError } from '../errors.js'
 import { ENGINE_VERSION } from '../../engine/index.js'
 import { toCredits } from '../game/money.js'
-import { socketWriter } from './write-batcher.js'
-import { OutgoingMessage } from './outgoing-message.js'
+import { holdWritesUntilEndOfTurn } from './write-batcher.js'
+import { OutgoingMessage, socketWriter } from './outgoing-message.js'
 import { SIMULATION_HZ } from '../rooms/tick-scheduler.js'
 import { welcomeMessage, leftMessage, pongMessage, errorMessage } from '../../protocol/server-messages.js'
 import { clientMessageSchemas } from '../../protocol/client-messages.js'
@@ -43,8 +43,8 @@ export class Connection {
    */
   constructor ({ socket, arena, parseMessage, metrics, log, softLimit, hardLimit, messageLimiter }) {
     this.socket = socket
-    /** Writes OutgoingMessages to the socket after the turn, each turn's as one write (write-batcher.js). */
-    this.out = socketWriter(socket)
+    /** Writes an OutgoingMessage to the socket (outgoing-message.js). */
+    this._write = socketWriter(socket)
     this.arena = arena
     this.parseMessage = parseMessage
     this.metrics = metrics
@@ -183,10 +183,11 @@ export class Connection {
    */
   sendEvent (text, type) {
     if (this.closed) return
-    if (this._queued() > this.hardLimit) return this._tooSlow()
+    if (this.socket.bufferedAmount > this.hardLimit) return this._tooSlow()
     // Held messages go first, so the client sees every message, and every balance, in order.
     if (this._deferred.length > 0) this.sendDeferred()
-    this.out.write(new OutgoingMessage(text))
+    holdWritesUntilEndOfTurn(this.socket)
+    this._write(new OutgoingMessage(text))
     this.metrics.messagesOut.labels(type).inc()
     this.metrics.bytesOut.inc(Buffer.byteLength(text))
   }
@@ -234,7 +235,7 @@ export class Connection {
    */
   sendRoomFrame (frame, events) {
     if (this.closed) return false
-    const queued = this._queued()
+    const queued = this.socket.bufferedAmount
     if (queued > this.hardLimit) {
       this._tooSlow()
       return false
@@ -244,7 +245,8 @@ export class Connection {
       if (events !== null) this.sendEvent(events, 'events')
       return false
     }
-    return this.out.write(frame)
+    holdWritesUntilEndOfTurn(this.socket)
+    return this._write(frame)
   }
 
   /**
@@ -256,16 +258,12 @@ export class Connection {
    */
   sendEventFrame (frame) {
     if (this.closed) return false
-    if (this._queued() > this.hardLimit) {
+    if (this.socket.bufferedAmount > this.hardLimit) {
       this._tooSlow()
       return false
     }
-    return this.out.write(frame)
-  }
-
-  /** Bytes on their way to the client: in the socket, and in this turn's queue. */
-  _queued () {
-    return this.socket.bufferedAmount + this.out.queuedBytes
+    holdWritesUntilEndOfTurn(this.socket)
+    return this._write(frame)
   }
 
   /**
@@ -311,8 +309,6 @@ export class Connection {
   close (code, reason) {
     if (this.closed) return
     this.sendDeferred()
-    // What this turn queued goes before the close frame.
-    this.out.flush()
     this._closed()
     this.socket.close(code, reason)
   }

@@ -6,8 +6,7 @@
  */
 import { describe, it, expect, afterEach } from 'vitest'
 import { WebSocketServer, WebSocket } from 'ws'
-import { OutgoingMessage, WEBSOCKET_OPTIONS } from '../../server/realtime/outgoing-message.js'
-import { socketWriter } from '../../server/realtime/write-batcher.js'
+import { OutgoingMessage, socketWriter, WEBSOCKET_OPTIONS } from '../../server/realtime/outgoing-message.js'
 
 let server
 afterEach(() => new Promise((resolve) => server ? server.close(resolve) : resolve()))
@@ -45,8 +44,7 @@ describe('messages framed once for the wire', () => {
       messages.push(new OutgoingMessage(bytes), new OutgoingMessage('é'.repeat(length >> 1) + 'x'.repeat(length & 1)))
     }
     const writers = serverSockets.map(socketWriter)
-    for (const message of messages) for (const out of writers) expect(out.write(message)).toBe(true)
-    for (const out of writers) out.flush()
+    for (const message of messages) for (const write of writers) expect(write(message)).toBe(true)
     // ws's own send, after them, keeps its place.
     for (const socket of serverSockets) socket.send('last')
     for (const client of clients) {
@@ -56,5 +54,41 @@ describe('messages framed once for the wire', () => {
     // The same bytes for every socket: framed once.
     expect(messages[3].wire).toBe(messages[3].wire)
     for (const client of clients) client.close()
+  })
+
+  it('leaves no cleared idle timer on the socket to refresh on every write', async () => {
+    const { serverSockets, clients } = await connected(1)
+    const raw = serverSockets[0]._socket
+    // As an HTTP server leaves an upgraded socket: a timeout set, then cleared by ws (setTimeout(0)).
+    raw.setTimeout(30_000)
+    raw.setTimeout(0)
+    const timer = () => Object.getOwnPropertySymbols(raw).filter((key) => key.description === 'timeout').map((key) => raw[key])
+    expect(timer().some((t) => t !== null && t !== undefined)).toBe(true)
+    socketWriter(serverSockets[0])
+    expect(timer().every((t) => t === null || t === undefined)).toBe(true)
+    // A timeout set afterwards still works.
+    const timedOut = new Promise((resolve) => raw.once('timeout', resolve))
+    raw.setTimeout(20)
+    await timedOut
+    raw.setTimeout(0)
+    clients[0].close()
+  })
+
+  it('writes nothing to a socket that is closing', async () => {
+    const { serverSockets, clients } = await connected(1)
+    const write = socketWriter(serverSockets[0])
+    serverSockets[0].close(1000, 'bye')
+    expect(write(new OutgoingMessage('too late'))).toBe(false)
+    await new Promise((resolve) => clients[0].once('close', resolve))
+    expect(clients[0].received).toEqual([])
+  })
+
+  it('hands anything that is not a ws socket the payload', () => {
+    const sent = []
+    const write = socketWriter({ send: (payload, options) => sent.push([payload, options.binary]) })
+    const bytes = new Uint8Array([3, 1])
+    expect(write(new OutgoingMessage(bytes))).toBe(true)
+    expect(write(new OutgoingMessage('{"type":"pong"}'))).toBe(true)
+    expect(sent).toEqual([[bytes, true], ['{"type":"pong"}', false]])
   })
 })
