@@ -6,6 +6,16 @@ import { OutgoingMessage } from './outgoing-message.js'
 export const DESYNC_CHECK_SECONDS = 2
 
 /**
+ * Frames a tick writes (all rooms, both deliveries) past which a frame
+ * held for a commit that is now done waits one more tick. A commit ends
+ * for every room at once: at 6,000 players the rooms holding for a slow one
+ * released 2,000–3,200 socket frames in one tick, 6–9 ms of it, most of the
+ * ticks over 8 ms. Spread over the next ticks instead, a few at a time; a
+ * frame held half a period goes whatever the count.
+ */
+export const RELEASED_FRAMES_PER_TICK = 1000
+
+/**
  * The `seeds` delivery: the page simulates every ball from its drop seed,
  * so its sockets get no positions. Its own drops' `dropped` (with the
  * balance) reaches the owner at once, as in every mode (drop-lifecycle.js);
@@ -23,7 +33,10 @@ export const DESYNC_CHECK_SECONDS = 2
  * while a drop released before its tick is still being committed, for at
  * most half a period: sent as soon as that commit is done, the drop reaches
  * the room then instead of a period later (the commit overlaps the wait for
- * the frame); still one frame a period. Nothing else: a room
+ * the frame); still one frame a period. Frames released that way wait a
+ * tick more while the tick has written RELEASED_FRAMES_PER_TICK frames
+ * already, so the rooms a commit held do not all go in the same tick.
+ * Nothing else: a room
  * where nothing happens sends nothing. Other players' settlements are not
  * sent (the page computes the landing; the facts are fetched on demand).
  * @type {import('./deliveries.js').Delivery}
@@ -87,7 +100,7 @@ class SeedFeed {
       return
     }
     if (this.heldSince >= 0) {
-      if (tick - this.heldSince < this.maxHold && room.awaitsCommitBefore(this.heldSince)) return
+      if (tick - this.heldSince < this.maxHold && (room.awaitsCommitBefore(this.heldSince) || framesOf(tally) >= RELEASED_FRAMES_PER_TICK)) return
       this.heldSince = -1
     } else {
       if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
@@ -144,4 +157,9 @@ function soleDropper (drops) {
   const account = drops[0].account
   for (let i = 1; i < drops.length; i++) if (drops[i].account !== account) return null
   return account
+}
+
+/** Frames written so far in this tick, by every feed. @param {import('./deliveries.js').DeliveryTally} tally */
+function framesOf (tally) {
+  return tally.eventFrames + tally.snapshotFrames
 }

@@ -2,7 +2,7 @@ import { describe, it, expect } from 'vitest'
 import { createBoard } from '../../engine/index.js'
 import { Room } from '../../server/rooms/room.js'
 import { createDrop } from '../../server/game/drop.js'
-import { seedsDelivery } from '../../server/realtime/delivery-seeds.js'
+import { seedsDelivery, RELEASED_FRAMES_PER_TICK } from '../../server/realtime/delivery-seeds.js'
 import { decodeDropEvents } from '../../protocol/drop-events-codec.js'
 
 /**
@@ -23,11 +23,14 @@ function setUp () {
   const dropper = standInSocket('bbbbbbbbbbbbbbbb')
   room.join(watcher, seedsDelivery)
   room.join(dropper, seedsDelivery)
-  const tally = { eventFrames: 0, eventBytes: 0 }
+  const tally = { eventFrames: 0, eventBytes: 0, snapshotFrames: 0, snapshotBytes: 0 }
   let nextId = 1
+  /** Ticks in which other rooms have written RELEASED_FRAMES_PER_TICK frames before this one's turn. */
+  const busyTicks = new Set()
   return {
     room,
     watcher,
+    busyTicks,
     /** Accepts a drop of the dropper's at the room's current tick (its commit pending). */
     release () {
       const id = nextId++
@@ -55,6 +58,8 @@ function setUp () {
     stepTo (tick) {
       while (room.tick < tick) {
         room.step(() => {})
+        // As the arena's tally: this tick's frames so far, the other rooms' first.
+        tally.eventFrames = busyTicks.has(room.tick) ? RELEASED_FRAMES_PER_TICK : 0
         room.deliver(tally)
       }
     }
@@ -124,6 +129,35 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     stepTo(30)
     expect(watcher.frames.map((f) => f.tick)).toEqual([17, 30])
     expect(ids(watcher.frames[1])).toEqual([after.id])
+  })
+
+  it('lets a frame whose commit is done wait while its tick has written its share of frames, at most half a period', () => {
+    const { watcher, busyTicks, release, announce, stepTo } = setUp()
+    stepTo(10)
+    const drop = release()
+    stepTo(16)
+    announce(drop)
+    // Other rooms released a slow commit's frames in ticks 17 and 18: this one goes in 19.
+    busyTicks.add(17).add(18)
+    stepTo(18)
+    expect(watcher.frames).toEqual([])
+    stepTo(19)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([19])
+    expect(ids(watcher.frames[0])).toEqual([drop.id])
+
+    // Busy all along: it goes once held half a period, as a slow commit's frame does.
+    const next = release()
+    stepTo(30)
+    announce(next)
+    for (let tick = 31; tick <= 45; tick++) busyTicks.add(tick)
+    stepTo(30 + MAX_HOLD - 1)
+    expect(watcher.frames).toHaveLength(1)
+    stepTo(30 + MAX_HOLD)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([19, 30 + MAX_HOLD])
+    // A frame due on the grid is not held for the count: the next one goes on tick 45, busy or not.
+    announce(release())
+    stepTo(45)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([19, 30 + MAX_HOLD, 45])
   })
 
   it('holds a frame at most half a period: a slower commit comes in the next frame', () => {
