@@ -3,8 +3,8 @@
  * (prepareWrites: the tick's batches, new players, seed rotations, and the
  * end of a checkpoint), and the
  * thread that runs them on a connection of its own (the store starts it:
- * SqliteWriter in sqlite-store.js). It runs the writes it is sent one at a
- * time, each durable (synchronous=FULL) before it answers with the write's
+ * SqliteWriter in sqlite-store.js). It runs the writes it is sent in order,
+ * each durable (synchronous=FULL) before it answers with the write's
  * result; a write that fails answers with the error's message and SQLite
  * code (SQLITE_BUSY: the write lock stayed held by someone else for the
  * whole busy timeout).
@@ -14,6 +14,8 @@
  * the tick instead of delaying it (see loadtest/RESULTS.md, "the writer
  * thread's priority"). Imported anywhere else (an in-memory store runs the
  * same transactions on its own connection), this file starts no thread.
+ * Writes that wait while the thread is busy share a transaction, each in
+ * a savepoint of its own (runWriterThread; prepareWrites' `together`).
  */
 import { isMainThread, parentPort, workerData } from 'node:worker_threads'
 import { wholeBatchCommitted, DROP_SQL, NEXT_NONCE_SQL, newDropValues, settlementValues } from './records.js'
@@ -44,15 +46,16 @@ export function prepareWrites (db) {
   const retireSeed = db.prepare(`UPDATE server_seeds AS s SET active = 0, revealed_at = ?, next_nonce = ${NEXT_NONCE_SQL.sqlite}
     WHERE s.id = ? AND s.player_id = ? AND s.active = 1`)
 
-  return {
+  /** Each write's statements, run inside a transaction its caller opened. */
+  const work = {
     /**
-     * Writes the batch whole or not at all; returns what it committed (one
-     * process owns a SQLite ledger, so nothing is refused) and the touched
-     * players' balances as committed.
+     * The batch's rows; returns what it committed (one process owns a
+     * SQLite ledger, so nothing is refused) and the touched players'
+     * balances as committed.
      * @param {import('./records.js').LedgerBatch} batch
      * @returns {import('../game/money.js').CommitOutcome}
      */
-    commitBatch: (batch) => immediateTransaction(db, () => {
+    commitBatch: (batch) => {
       for (const d of batch.drops) insertDrop.run(...newDropValues(d))
       for (const s of batch.settlements) {
         if (settle.run(...settlementValues(s)).changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
@@ -64,21 +67,76 @@ export function prepareWrites (db) {
       const balances = new Map()
       for (const playerId of batch.players ?? []) balances.set(playerId, Number(balanceOf.get(playerId)?.balance))
       return wholeBatchCommitted(batch, balances)
-    }),
-    createPlayer: ({ id, tokenHash, balance, clientSeed, createdAt, seed }) => immediateTransaction(db, () => {
+    },
+    createPlayer: ({ id, tokenHash, balance, clientSeed, createdAt, seed }) => {
       insertPlayer.run(id, tokenHash, balance, clientSeed, createdAt)
       insertSeed.run(seed.id, id, seed.seed, seed.hash, createdAt)
-    }),
-    rotateSeed: ({ playerId, oldSeedId, newSeed, at }) => immediateTransaction(db, () => {
+    },
+    rotateSeed: ({ playerId, oldSeedId, newSeed, at }) => {
       if (retireSeed.run(at, oldSeedId, playerId).changes !== 1) throw new Error(`seed ${oldSeedId} is not the active seed of ${playerId}`)
       insertSeed.run(newSeed.id, playerId, newSeed.seed, newSeed.hash, at)
-    }),
+    }
+  }
+
+  return {
+    /** The batch whole or not at all (work.commitBatch). */
+    commitBatch: (batch) => immediateTransaction(db, () => work.commitBatch(batch)),
+    createPlayer: (player) => immediateTransaction(db, () => work.createPlayer(player)),
+    rotateSeed: (rotation) => immediateTransaction(db, () => work.rotateSeed(rotation)),
     /**
      * Copies what the checkpoint thread's last pass left in the WAL (the
      * frames committed while it ran): between two batches, with no write
      * beside it, so it copies all and the next commit starts the WAL over.
      */
-    checkpoint: () => checkpointPassive(db)
+    checkpoint: () => checkpointPassive(db),
+    /**
+     * Several writes (never `checkpoint`) in ONE transaction, and so one
+     * fsync, each in a savepoint of its own: a write that throws is undone
+     * alone and the others stand, as if each had had its transaction. What
+     * breaks the transaction itself (SQLite rolled it back: a full disk, an
+     * I/O error) or its commit fails every write of the group.
+     * @param {{ op: string, args: any }[]} writes
+     * @returns {({ result: any } | { error: Error })[]} in the writes' order, all durable
+     */
+    together: (writes) => groupTransaction(db, writes.map(({ op, args }) => () => work[op](args)))
+  }
+}
+
+/**
+ * Runs each of `jobs` in a savepoint of one BEGIN IMMEDIATE transaction
+ * and commits it; the outcomes once committed (an error each where the
+ * group could not be: see prepareWrites' `together`).
+ * @param {import('node:sqlite').DatabaseSync} db @param {(() => any)[]} jobs
+ */
+function groupTransaction (db, jobs) {
+  const failAll = (error) => jobs.map(() => ({ error: withSqliteCode(error) }))
+  try {
+    db.exec('BEGIN IMMEDIATE')
+  } catch (error) {
+    return failAll(error)
+  }
+  const outcomes = []
+  try {
+    for (const job of jobs) {
+      db.exec('SAVEPOINT write')
+      try {
+        outcomes.push({ result: job() })
+        db.exec('RELEASE write')
+      } catch (error) {
+        // SQLite rolled the whole transaction back: what ran before is gone too.
+        if (!db.isTransaction) throw error
+        db.exec('ROLLBACK TO write')
+        db.exec('RELEASE write')
+        outcomes.push({ error: withSqliteCode(error) })
+      }
+    }
+    db.exec('COMMIT')
+    return outcomes
+  } catch (error) {
+    if (db.isTransaction) {
+      try { db.exec('ROLLBACK') } catch {} // the first error is the one to report
+    }
+    return failAll(error)
   }
 }
 
@@ -115,9 +173,22 @@ export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed'
 export const WRITER_THREAD_DATA = 'plinkoSqliteWriter'
 
 /**
+ * Writes the thread puts in one transaction at most: a burst of sign-ups
+ * waiting behind a commit goes in a few transactions, not one each, and
+ * none grows long enough to hold the next tick's commit for more than a
+ * few milliseconds.
+ */
+export const MAX_WRITES_PER_TRANSACTION = 256
+
+/**
  * The thread's entry: opens its connection and answers each `{ id, op,
  * args }` with `{ id, result }` or `{ id, error, code }`, until `{ type:
- * 'close' }`.
+ * 'close' }`. Writes are run in the order they came; the ones that arrived
+ * while the thread was busy (Node hands a port's waiting messages over in
+ * one go) share a transaction (prepareWrites' `together`), so a commit's
+ * fsync is paid once for all of them: one a sign-up at a time, 300
+ * sign-ups a second took the whole writer and held every tick's commit
+ * behind them for seconds (loadtest/RESULTS.md).
  * @param {{ file: string, busyTimeoutMs?: number, nice: number }} options
  */
 function runWriterThread ({ file, busyTimeoutMs, nice }) {
@@ -125,19 +196,73 @@ function runWriterThread ({ file, busyTimeoutMs, nice }) {
   // Its commits never checkpoint: the checkpoint thread does (sqlite-checkpoint-thread.js).
   const db = openSqliteDatabase(file, { busyTimeoutMs, autoCheckpoint: false })
   const writes = prepareWrites(db)
+  /** @type {{ id: number, op: string, args: any }[]} */
+  let waiting = []
+  let scheduled = false
+  const answer = (id, outcome) => {
+    if ('error' in outcome) parentPort.postMessage({ id, error: outcome.error.message, code: outcome.error.code })
+    else parentPort.postMessage({ id, result: outcome.result })
+  }
+  const runOne = ({ id, op, args }) => {
+    try {
+      if (!WRITES.includes(op)) throw new Error(`no write ${op}`)
+      answer(id, { result: writes[op](args) })
+    } catch (error) {
+      answer(id, { error })
+    }
+  }
+  const runWaiting = () => {
+    scheduled = false
+    const messages = waiting
+    waiting = []
+    for (const group of transactionGroups(messages)) {
+      if (group.length === 1) {
+        runOne(group[0])
+        continue
+      }
+      const outcomes = writes.together(group)
+      group.forEach((message, i) => answer(message.id, outcomes[i]))
+    }
+  }
   parentPort.on('message', (message) => {
     if (message.type === 'close') {
+      runWaiting()
       db.close()
       parentPort.close()
       return
     }
-    try {
-      if (!WRITES.includes(message.op)) throw new Error(`no write ${message.op}`)
-      parentPort.postMessage({ id: message.id, result: writes[message.op](message.args) })
-    } catch (error) {
-      parentPort.postMessage({ id: message.id, error: error.message, code: error.code })
+    waiting.push(message)
+    if (!scheduled) {
+      scheduled = true
+      setImmediate(runWaiting)
     }
   })
+}
+
+/** The writes that may share a transaction (`checkpoint` must run outside one). */
+const GROUPED = new Set(['commitBatch', 'createPlayer', 'rotateSeed'])
+
+/**
+ * The waiting writes cut into transactions, in their order: runs of
+ * writes that may share one (at most MAX_WRITES_PER_TRANSACTION each),
+ * and every other write (`checkpoint`, an unknown one) alone.
+ * @template {{ op: string }} M @param {M[]} messages @returns {M[][]}
+ */
+export function transactionGroups (messages) {
+  const groups = []
+  let open = null
+  for (const message of messages) {
+    if (!GROUPED.has(message.op)) {
+      groups.push([message])
+      open = null
+    } else if (open && open.length < MAX_WRITES_PER_TRANSACTION) {
+      open.push(message)
+    } else {
+      open = [message]
+      groups.push(open)
+    }
+  }
+  return groups
 }
 
 if (!isMainThread && workerData?.[WRITER_THREAD_DATA]) runWriterThread(workerData[WRITER_THREAD_DATA])

@@ -6,6 +6,8 @@ import { DatabaseSync } from 'node:sqlite'
 import { Worker } from 'node:worker_threads'
 import { SqliteStore } from '../../server/store/sqlite-store.js'
 import { WRITER_THREAD_NICE } from '../../server/store/sqlite-store.js'
+import { prepareWrites, transactionGroups, MAX_WRITES_PER_TRANSACTION } from '../../server/store/sqlite-writer-thread.js'
+import { MIGRATIONS } from '../../server/store/migrations.js'
 
 /** Nice value of every thread of this process, by thread id (Linux /proc). */
 const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
@@ -43,6 +45,15 @@ const databaseFileAlone = (sql) => {
   const db = new DatabaseSync(copy, { readOnly: true })
   try { return db.prepare(sql).all() } finally { db.close(); fs.rmSync(copy) }
 }
+/** Transactions committed in the WAL: its frames whose header names the database's size after a commit (bytes 4-7, 0 in every other frame). */
+const walCommits = () => {
+  const wal = fs.readFileSync(`${file}-wal`)
+  const pageSize = wal.readUInt32BE(8)
+  let commits = 0
+  for (let at = 32; at + 24 + pageSize <= wal.length; at += 24 + pageSize) if (wal.readUInt32BE(at + 4) !== 0) commits++
+  return commits
+}
+const player = (n, hash = `${n}`.padStart(64, 'f')) => ({ id: `p-${n}`, tokenHash: `t-${n}`, balance: 1000, clientSeed: 'c', createdAt: 1, seed: { id: `s-${n}`, seed: 'a'.repeat(64), hash } })
 /** Reads the file through a connection of its own, as another process would. */
 const read = (sql) => { const db = new DatabaseSync(file, { readOnly: true }); try { return db.prepare(sql).all() } finally { db.close() } }
 
@@ -171,5 +182,75 @@ describe('SQLite writer thread', () => {
     await store.commitBatch(batch([drop(3)]))
     expect(store._writer.worker).not.toBe(first)
     expect(read('SELECT id FROM drops ORDER BY id').map((r) => r.id)).toContain(3)
+  })
+
+  it('puts the writes that wait while it is busy in one transaction: 200 sign-ups at once are a few commits, a failing one undone alone', async () => {
+    await store.close()
+    store = new SqliteStore({ file, checkpointIntervalMs: 3_600_000 })
+    await store.commitBatch(batch([drop(1)]))
+    const before = walCommits()
+    const signUps = Array.from({ length: 200 }, (_, n) => store.createPlayer(n === 100 ? player(n, 'b'.repeat(64)) : player(n)))
+    const tick = store.commitBatch(batch([drop(2)], [], [{ playerId: 'p1', delta: -10 }]))
+    const outcomes = await Promise.allSettled([...signUps, tick])
+    // The one whose seed's hash is taken (UNIQUE) fails with SQLite's code; the others and the batch are durable.
+    expect(outcomes.filter((o) => o.status === 'rejected').map((o) => o.reason.code)).toEqual(['SQLITE_CONSTRAINT'])
+    expect(outcomes[100].status).toBe('rejected')
+    expect(read("SELECT COUNT(*) AS n FROM players WHERE id LIKE 'p-%'")).toEqual([{ n: 199 }])
+    // Its player row went with its savepoint: nothing half-written.
+    expect(read("SELECT COUNT(*) AS n FROM players WHERE id = 'p-100'")).toEqual([{ n: 0 }])
+    expect(read('SELECT id FROM drops ORDER BY id').map((r) => r.id)).toEqual([1, 2])
+    expect(read("SELECT balance FROM players WHERE id = 'p1'")).toEqual([{ balance: 990 }])
+    // One commit each would be 201; the thread wakes for more than one message at a time.
+    expect(walCommits() - before).toBeLessThan(50)
+  })
+})
+
+describe("the writer's transactions", () => {
+  const memory = () => {
+    const db = new DatabaseSync(':memory:')
+    for (const migration of MIGRATIONS) db.exec(migration.sql)
+    return db
+  }
+
+  it('together(): each write in a savepoint, one that throws undone alone, the rest committed in one transaction', () => {
+    const db = memory()
+    const writes = prepareWrites(db)
+    writes.createPlayer(player(0))
+    const outcomes = writes.together([
+      { op: 'createPlayer', args: player(1) },
+      { op: 'createPlayer', args: player(2, player(0).seed.hash) }, // the player row goes in, its seed's hash is taken
+      { op: 'rotateSeed', args: { playerId: 'p-1', oldSeedId: 's-1', newSeed: { id: 's-1b', seed: 'e'.repeat(64), hash: 'e'.repeat(64) }, at: 5 } },
+      { op: 'rotateSeed', args: { playerId: 'p-0', oldSeedId: 'nope', newSeed: { id: 's-0b', seed: 'e'.repeat(64), hash: 'd'.repeat(64) }, at: 5 } },
+      { op: 'commitBatch', args: { drops: [], settlements: [], balances: [{ playerId: 'p-1', delta: 5 }], clientSeeds: [], players: ['p-1'] } }
+    ])
+    expect(outcomes.map((o) => ('error' in o ? o.error.code ?? o.error.message : 'ok'))).toEqual(['ok', 'SQLITE_CONSTRAINT', 'ok', 'seed nope is not the active seed of p-0', 'ok'])
+    expect(outcomes[4].result.balances.get('p-1')).toBe(1005)
+    expect(db.isTransaction).toBe(false)
+    expect(db.prepare('SELECT id FROM players ORDER BY id').all().map((r) => r.id)).toEqual(['p-0', 'p-1'])
+    expect(db.prepare('SELECT id, active FROM server_seeds ORDER BY id').all().map((r) => `${r.id}:${r.active}`)).toEqual(['s-0:1', 's-1:0', 's-1b:1'])
+    db.close()
+  })
+
+  it('together(): a transaction it cannot open fails every write of the group with the reason', () => {
+    const db = memory()
+    const writes = prepareWrites(db)
+    db.exec('BEGIN') // already in one: BEGIN IMMEDIATE fails
+    const outcomes = writes.together([{ op: 'createPlayer', args: player(1) }, { op: 'createPlayer', args: player(2) }])
+    db.exec('ROLLBACK')
+    expect(outcomes).toHaveLength(2)
+    for (const outcome of outcomes) expect(outcome.error.message).toMatch(/within a transaction/)
+    expect(db.prepare('SELECT COUNT(*) AS n FROM players').get().n).toBe(0)
+    db.close()
+  })
+
+  it('transactionGroups(): runs of writes in order, a checkpoint or unknown write alone, none longer than the cap', () => {
+    const m = (op, id) => ({ op, id })
+    const ops = (groups) => groups.map((g) => g.map((x) => x.id))
+    expect(ops(transactionGroups([m('createPlayer', 1), m('commitBatch', 2), m('checkpoint', 3), m('rotateSeed', 4), m('createPlayer', 5), m('nonsense', 6), m('createPlayer', 7)])))
+      .toEqual([[1, 2], [3], [4, 5], [6], [7]])
+    const many = Array.from({ length: MAX_WRITES_PER_TRANSACTION * 2 + 1 }, (_, i) => m('createPlayer', i))
+    expect(transactionGroups(many).map((g) => g.length)).toEqual([MAX_WRITES_PER_TRANSACTION, MAX_WRITES_PER_TRANSACTION, 1])
+    expect(transactionGroups(many).flat()).toEqual(many)
+    expect(transactionGroups([])).toEqual([])
   })
 })
