@@ -103,40 +103,37 @@ export function prepareWrites (db) {
 }
 
 /**
- * Runs each of `jobs` in a savepoint of one BEGIN IMMEDIATE transaction
- * and commits it; the outcomes once committed (an error each where the
- * group could not be: see prepareWrites' `together`).
+ * Runs each of `jobs` in a savepoint of one immediateTransaction and
+ * commits it; the outcomes once committed (an error each where the group
+ * could not be: see prepareWrites' `together`).
  * @param {import('node:sqlite').DatabaseSync} db @param {(() => any)[]} jobs
  */
 function groupTransaction (db, jobs) {
-  const failAll = (error) => jobs.map(() => ({ error: withSqliteCode(error) }))
   try {
-    db.exec('BEGIN IMMEDIATE')
+    return immediateTransaction(db, () => jobs.map((job) => inSavepoint(db, job)))
   } catch (error) {
-    return failAll(error)
+    return jobs.map(() => ({ error }))
   }
-  const outcomes = []
+}
+
+/**
+ * One job inside a transaction: undone alone if it throws, unless SQLite
+ * rolled the whole transaction back (what ran before it is gone too: the
+ * error goes up to fail the group).
+ * @param {import('node:sqlite').DatabaseSync} db @param {() => any} job
+ * @returns {{ result: any } | { error: Error }}
+ */
+function inSavepoint (db, job) {
+  db.exec('SAVEPOINT write')
   try {
-    for (const job of jobs) {
-      db.exec('SAVEPOINT write')
-      try {
-        outcomes.push({ result: job() })
-        db.exec('RELEASE write')
-      } catch (error) {
-        // SQLite rolled the whole transaction back: what ran before is gone too.
-        if (!db.isTransaction) throw error
-        db.exec('ROLLBACK TO write')
-        db.exec('RELEASE write')
-        outcomes.push({ error: withSqliteCode(error) })
-      }
-    }
-    db.exec('COMMIT')
-    return outcomes
+    const result = job()
+    db.exec('RELEASE write')
+    return { result }
   } catch (error) {
-    if (db.isTransaction) {
-      try { db.exec('ROLLBACK') } catch {} // the first error is the one to report
-    }
-    return failAll(error)
+    if (!db.isTransaction) throw error
+    db.exec('ROLLBACK TO write')
+    db.exec('RELEASE write')
+    return { error: withSqliteCode(error) }
   }
 }
 
@@ -240,7 +237,7 @@ function runWriterThread ({ file, busyTimeoutMs, nice }) {
 }
 
 /** The writes that may share a transaction (`checkpoint` must run outside one). */
-const GROUPED = new Set(['commitBatch', 'createPlayer', 'rotateSeed'])
+const GROUPED = new Set(WRITES.filter((op) => op !== 'checkpoint'))
 
 /**
  * The waiting writes cut into transactions, in their order: runs of
