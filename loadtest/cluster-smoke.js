@@ -18,7 +18,7 @@ import path from 'node:path'
 import { parseArgs } from 'node:util'
 import { fileURLToPath } from 'node:url'
 import { startPostgres } from '../tools/postgres-process.js'
-import { query, ledgerMismatches } from '../tools/ledger-checks.js'
+import { query, ledgerMismatches, roomTotalMismatches } from '../tools/ledger-checks.js'
 import { startClusterProcess } from '../tools/cluster-process.js'
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..')
@@ -49,8 +49,8 @@ try {
     '--rooms', values.rooms, '--ramp', '5s', '--env', 'BREAKDOWN=1'], { cwd: ROOT, stdio: 'inherit', env: { ...process.env, TARGET_URL: cluster.url } })
   const k6Code = await new Promise((resolve) => k6.once('exit', (code) => resolve(code ?? 1)))
   const ledger = await checkLedger(databaseUrl)
-  console.log(`cluster smoke: ${ledger.drops} drops in the shared ledger, ${ledger.unsettled} unsettled, ${ledger.mismatches} balance mismatches; k6 exit ${k6Code}`)
-  exitCode = k6Code === 0 && ledger.drops > 0 && ledger.unsettled === 0 && ledger.mismatches === 0 ? 0 : 1
+  console.log(`cluster smoke: ${ledger.drops} drops in the shared ledger, ${ledger.unsettled} unsettled, ${ledger.mismatches} balance mismatches, ${ledger.roomTotalMismatches} room totals unlike their drops; k6 exit ${k6Code}`)
+  exitCode = k6Code === 0 && ledger.drops > 0 && ledger.unsettled === 0 && ledger.mismatches === 0 && ledger.roomTotalMismatches === 0 ? 0 : 1
 } catch (error) {
   console.error(`cluster smoke: ${error.stack ?? error.message}`)
 } finally {
@@ -62,5 +62,6 @@ process.exit(exitCode)
 async function checkLedger (url) {
   const [counts] = await query(url, "SELECT count(*) AS drops, count(*) FILTER (WHERE status <> 'settled') AS unsettled FROM drops")
   const mismatches = await ledgerMismatches(url, STARTING_BALANCE)
-  return { drops: Number(counts.drops), unsettled: Number(counts.unsettled), mismatches: mismatches.length }
+  const roomTotals = await roomTotalMismatches(url)
+  return { drops: Number(counts.drops), unsettled: Number(counts.unsettled), mismatches: mismatches.length, roomTotalMismatches: roomTotals.length }
 }

@@ -222,7 +222,7 @@ async function recordDropsIfPaid (client, drops) {
 async function settleInFlight (client, settlements, players) {
   const settled = new Set()
   if (settlements.length === 0) return settled
-  const { rows } = await client.query(`${DROP_SQL.postgres.settle} RETURNING d.id, d.player_id, s.payout`, settlementArrays(settlements))
+  const { rows } = await client.query(DROP_SQL.postgres.settle, settlementArrays(settlements))
   for (const row of rows) {
     settled.add(Number(row.id))
     players.add(row.player_id)

@@ -83,6 +83,30 @@ UPDATE players SET balance = balance * 1000;
 UPDATE drops SET payout = payout * 1000 WHERE payout IS NOT NULL;
 ALTER TABLE drops ADD COLUMN payout_rule SMALLINT NOT NULL DEFAULT 1 CHECK (payout_rule IN (1, 2));
 `
+  },
+  {
+    version: 3,
+    name: 'room totals by bucket kept with each settlement, instead of the drops_room index',
+    // The room statistics were a GROUP BY over every settled drop of the room
+    // (through drops_room): a scan growing with the room's history, and an
+    // index entry per drop at one of the rooms' insertion points, written in
+    // every commit. The totals are now kept as each drop settles, in the same
+    // transaction (records.js: DROP_SQL, ROOM_STATS_SQL), and read in one lookup.
+    sql: `
+CREATE TABLE room_buckets (
+  room           TEXT NOT NULL,
+  engine_version TEXT NOT NULL,
+  bucket         SMALLINT NOT NULL,
+  settled        BIGINT NOT NULL CHECK (settled > 0),
+  bet            BIGINT NOT NULL CHECK (bet > 0),
+  payout         BIGINT NOT NULL CHECK (payout >= 0),
+  PRIMARY KEY (room, engine_version, bucket)
+);
+INSERT INTO room_buckets (room, engine_version, bucket, settled, bet, payout)
+  SELECT room, engine_version, bucket, COUNT(*), SUM(bet), SUM(payout)
+  FROM drops WHERE status = 'settled' GROUP BY room, engine_version, bucket;
+DROP INDEX drops_room;
+`
   }
 ])
 

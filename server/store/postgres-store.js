@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -181,9 +181,8 @@ export class PostgresStore {
   }
 
   async roomStats (room, engineVersion) {
-    const buckets = await this.pool.query(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
-      FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room, engineVersion])
-    const inFlight = await this.pool.query("SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'in_flight'", [room, engineVersion])
+    const buckets = await this.pool.query(ROOM_STATS_SQL.postgres.buckets, [room, engineVersion])
+    const inFlight = await this.pool.query(ROOM_STATS_SQL.postgres.inFlight, [room, engineVersion])
     return statsFromRows(buckets.rows, inFlight.rows[0].n)
   }
 

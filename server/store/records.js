@@ -49,28 +49,64 @@ const names = (columns) => columns.map((c) => c.name).join(', ')
 const NEW_DROP_NAMES = names(NEW_DROP_COLUMNS)
 const SETTLED_ID = column('id', 'id', 'bigint')
 
+/** Settled drops added to their room's totals by bucket (room_buckets, migration 3): a row per room, engine version and bucket, its counts summed. */
+const ROOM_BUCKET_INSERT = 'INSERT INTO room_buckets (room, engine_version, bucket, settled, bet, payout)'
+const ROOM_BUCKET_ADD = `ON CONFLICT (room, engine_version, bucket) DO UPDATE SET settled = room_buckets.settled + excluded.settled,
+      bet = room_buckets.bet + excluded.bet, payout = room_buckets.payout + excluded.payout`
+
 /**
  * The statements writing a drop's row, in each dialect. SQLite binds one
  * row at a time (newDropValues, settlementValues); PostgreSQL takes a whole
  * batch as one array per column (newDropArrays, settlementArrays) through
- * unnest(). A settlement changes only a row still in flight: the caller
- * counts the rows changed (SQLite: `changes`; PostgreSQL: `rowCount`, or the
- * rows RETURNING lists).
+ * unnest(). A settlement changes only a row still in flight, and adds the
+ * drop to its room's totals (room_buckets) in the same transaction: SQLite
+ * with `countSettled` run after each `settle` that changed its row, given
+ * the drop's id; PostgreSQL's `settle` does both and returns the drops it
+ * settled (id, player_id, payout). The caller counts the rows settled
+ * (SQLite: `changes`; PostgreSQL: `rowCount`, or the rows returned).
  */
 export const DROP_SQL = Object.freeze({
   sqlite: Object.freeze({
     insert: `INSERT INTO drops (${NEW_DROP_NAMES}, status) VALUES (${NEW_DROP_COLUMNS.map(() => '?').join(', ')}, 'in_flight')`,
     settle: `UPDATE drops SET status = 'settled', ${SETTLEMENT_COLUMNS.map((c) => `${c.name} = ?`).join(', ')}
-      WHERE id = ? AND status = 'in_flight'`
+      WHERE id = ? AND status = 'in_flight'`,
+    // (The WHERE also keeps SQLite from reading ON CONFLICT as part of the SELECT: https://sqlite.org/lang_upsert.html.)
+    countSettled: `${ROOM_BUCKET_INSERT} SELECT room, engine_version, bucket, 1, bet, payout FROM drops WHERE id = ? AND status = 'settled'
+      ${ROOM_BUCKET_ADD}`
   }),
   postgres: Object.freeze({
     insert: `INSERT INTO drops (${NEW_DROP_NAMES}, status)
       SELECT ${NEW_DROP_NAMES}, 'in_flight' FROM ${unnest(NEW_DROP_COLUMNS, 't')}`,
-    settle: `UPDATE drops AS d SET status = 'settled', ${SETTLEMENT_COLUMNS.map((c) => `${c.name} = s.${c.name}`).join(', ')}
-      FROM ${unnest([SETTLED_ID, ...SETTLEMENT_COLUMNS], 's')}
-      WHERE d.id = s.id AND d.status = 'in_flight'`
+    // Totals in key order, so two transactions adding to the same rooms take their row locks in one order.
+    settle: `WITH settled AS (
+        UPDATE drops AS d SET status = 'settled', ${SETTLEMENT_COLUMNS.map((c) => `${c.name} = s.${c.name}`).join(', ')}
+        FROM ${unnest([SETTLED_ID, ...SETTLEMENT_COLUMNS], 's')}
+        WHERE d.id = s.id AND d.status = 'in_flight'
+        RETURNING d.id, d.player_id, d.payout, d.room, d.engine_version, d.bucket, d.bet
+      ), counted AS (
+        ${ROOM_BUCKET_INSERT}
+        SELECT room, engine_version, bucket, COUNT(*), SUM(bet), SUM(payout) FROM settled
+        GROUP BY room, engine_version, bucket ORDER BY room, engine_version, bucket
+        ${ROOM_BUCKET_ADD}
+      )
+      SELECT id, player_id, payout FROM settled`
   })
 })
+
+/**
+ * A room's totals by bucket for one engine version, in bucket order
+ * (room_buckets), and its drops in flight (through the drops_in_flight
+ * partial index: few rows, whatever the room's history).
+ */
+export const ROOM_STATS_SQL = Object.freeze({ sqlite: roomStatsSql('?', '?'), postgres: roomStatsSql('$1', '$2') })
+
+/** ROOM_STATS_SQL with each dialect's parameters for the room and the engine version. */
+function roomStatsSql (room, engineVersion) {
+  return Object.freeze({
+    buckets: `SELECT bucket, settled AS count, bet, payout FROM room_buckets WHERE room = ${room} AND engine_version = ${engineVersion} ORDER BY bucket`,
+    inFlight: `SELECT COUNT(*) AS n FROM drops WHERE status = 'in_flight' AND room = ${room} AND engine_version = ${engineVersion}`
+  })
+}
 
 /** `unnest($1::bigint[], …) AS alias (name, …)`: a table of the columns from one array parameter each. */
 function unnest (columns, alias) {

@@ -1,6 +1,6 @@
 import { Worker } from 'node:worker_threads'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
@@ -151,10 +151,8 @@ export class SqliteStore {
   }
 
   async roomStats (room, engineVersion) {
-    const buckets = this._sql(`SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout
-      FROM drops WHERE room = ? AND engine_version = ? AND status = 'settled' GROUP BY bucket ORDER BY bucket`).all(room, engineVersion)
-    const { inFlight } = this._sql("SELECT COUNT(*) AS inFlight FROM drops WHERE room = ? AND engine_version = ? AND status = 'in_flight'").get(room, engineVersion)
-    return statsFromRows(buckets, inFlight)
+    const buckets = this._sql(ROOM_STATS_SQL.sqlite.buckets).all(room, engineVersion)
+    return statsFromRows(buckets, this._sql(ROOM_STATS_SQL.sqlite.inFlight).get(room, engineVersion).n)
   }
 
   async maxDropId () {

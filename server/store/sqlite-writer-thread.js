@@ -37,6 +37,7 @@ import { checkpointPassive } from './sqlite-checkpoint-thread.js'
 export function prepareWrites (db) {
   const insertDrop = db.prepare(DROP_SQL.sqlite.insert)
   const settle = db.prepare(DROP_SQL.sqlite.settle)
+  const countSettled = db.prepare(DROP_SQL.sqlite.countSettled)
   const credit = db.prepare('UPDATE players SET balance = balance + ? WHERE id = ?')
   const clientSeed = db.prepare('UPDATE players SET client_seed = ? WHERE id = ?')
   const balanceOf = db.prepare('SELECT balance FROM players WHERE id = ?')
@@ -59,6 +60,7 @@ export function prepareWrites (db) {
       for (const d of batch.drops) insertDrop.run(...newDropValues(d))
       for (const s of batch.settlements) {
         if (settle.run(...settlementValues(s)).changes !== 1) throw new Error(`drop ${s.id} is not in flight; refusing to settle it twice`)
+        countSettled.run(s.id)
       }
       for (const b of batch.balances) {
         if (credit.run(b.delta, b.playerId).changes !== 1) throw new Error(`no player ${b.playerId}`)

@@ -1,5 +1,5 @@
 import { describe, it, expect } from 'vitest'
-import { clusterTestbed, ledgerMismatches } from './helpers/cluster.js'
+import { clusterTestbed, ledgerMismatches, roomTotalMismatches } from './helpers/cluster.js'
 import { runLeanLoad } from '../../loadtest/lean/lean-generator.js'
 
 /**
@@ -35,5 +35,6 @@ describe('cluster: the lean generator follows E_WRONG_NODE', () => {
     const { rooms } = await (await fetch(`${a.url}/api/rooms`)).json()
     expect(rooms.find((r) => r.id === roomIds[0]).owner).toBe(b.url)
     expect(await ledgerMismatches(databaseUrl, START)).toEqual([])
+    expect(await roomTotalMismatches(databaseUrl)).toEqual([])
   })
 })

@@ -1,6 +1,6 @@
 import { describe, it, expect } from 'vitest'
 import Redis from 'ioredis'
-import { clusterTestbed, query, ledgerMismatches, eventually } from './helpers/cluster.js'
+import { clusterTestbed, query, ledgerMismatches, roomTotalMismatches, eventually } from './helpers/cluster.js'
 
 /**
  * A process loses a room's lease with drops in flight, and drops still
@@ -65,6 +65,8 @@ describe('cluster: a lease lost with drops in flight', () => {
     expect(rows.length).toBeGreaterThan(10)
     expect(new Set(rows.map((r) => r.id)).size).toBe(rows.length)
     expect(await ledgerMismatches(databaseUrl, START)).toEqual([])
+    // The lost room's settlements, refused or made by either process, each counted once in its room's totals.
+    expect(await roomTotalMismatches(databaseUrl)).toEqual([])
     const [{ balance }] = await query(databaseUrl, 'SELECT balance FROM players WHERE id = $1', [alice.playerId])
 
     // On A, the whole committed balance can be bet again (nothing stays reserved by the lost room's drops).

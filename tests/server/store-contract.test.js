@@ -41,9 +41,11 @@ function settlement (drop, multiplier) {
 describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: kind, open }) => {
   const backend = storeBackend(kind)
   let store
+  let database
   beforeAll(async () => {
     await backend.setup()
-    store = await open((await backend.newDatabase()).database)
+    database = (await backend.newDatabase()).database
+    store = await open(database)
   }, 120_000)
   afterAll(async () => {
     await store?.close()
@@ -162,5 +164,35 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     expect(retired.nonce).toBeGreaterThanOrEqual(from + 7)
     if (!name.includes('cluster')) expect(retired.nonce).toBe(from + 7)
     if (!name.includes('cluster')) expect((await store.loadAccount('player-ada')).seed.nextNonce).toBe(0)
+  })
+
+  it("keeps each room's totals by bucket as its drops settle: the sums over its settled drops, in flight counted apart", async () => {
+    await store.createPlayer(newPlayer('bo', 1000))
+    const account = await store.loadAccount('player-bo')
+    const inRoom = (id, room, bet, engineVersion = '2.0.0') => ({ ...gameDrop(id, account, { bet, room, nonce: id - 20 }), engineVersion })
+    const drops = [inRoom(20, '16-medium', 7), inRoom(21, '16-medium', 3), inRoom(22, '16-medium', 2), inRoom(23, '8-low', 4), inRoom(24, '16-medium', 6, '1.0.0'), inRoom(25, '16-medium', 1)]
+    await store.commitBatch(toLedgerBatch({ drops, settlements: [] }))
+    const landed = (drop, bucket, multiplier) => ({ ...settlement(drop, multiplier), bucket })
+    // Two drops of one room and bucket in one batch (added up within it), one in another bucket, another room and another version; 25 stays in flight.
+    await store.commitBatch(toLedgerBatch({ drops: [], settlements: [landed(drops[0], 3, 0.5), landed(drops[1], 3, 1.1), landed(drops[2], 9, 5.6), landed(drops[3], 0, 0.3), landed(drops[4], 3, 2)] }))
+    const expected = async (room, engineVersion) => ({
+      buckets: (await backend.query(database, `SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout FROM drops
+        WHERE room = $1 AND engine_version = $2 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room, engineVersion]))
+        .map((row) => ({ bucket: Number(row.bucket), count: Number(row.count), bet: Number(row.bet), payout: Number(row.payout) / 1000 })),
+      inFlight: Number((await backend.query(database, "SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'in_flight'", [room, engineVersion]))[0].n)
+    })
+    for (const [room, engineVersion] of [['16-medium', '2.0.0'], ['16-medium', '1.0.0'], ['8-low', '2.0.0'], ['12-high', '2.0.0']]) {
+      const stats = await store.roomStats(room, engineVersion)
+      const sums = await expected(room, engineVersion)
+      expect(stats.buckets).toEqual(sums.buckets)
+      expect(stats.inFlight).toBe(sums.inFlight)
+      expect(stats.settled).toBe(sums.buckets.reduce((n, b) => n + b.count, 0))
+    }
+    const medium = await store.roomStats('16-medium', '2.0.0')
+    // Drop 1 (bucket 3, bet 10, paid 25) and 20 and 21 in bucket 3; 22 in bucket 9; 10, 11 (the nonce test's) and 25 in flight.
+    expect(medium.buckets).toEqual([{ bucket: 3, count: 3, bet: 20, payout: 25 + 3.5 + 3.3 }, { bucket: 9, count: 1, bet: 2, payout: 11.2 }])
+    expect(medium.inFlight).toBe(3)
+    expect(medium.rtp).toBeCloseTo((25 + 3.5 + 3.3 + 11.2) / 22, 12)
+    expect((await store.roomStats('12-high', '2.0.0'))).toMatchObject({ settled: 0, inFlight: 0, buckets: [], rtp: null })
   })
 })

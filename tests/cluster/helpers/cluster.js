@@ -72,7 +72,7 @@ export function clusterTestbed () {
 // One launcher each for the whole project (npm run cluster uses them too).
 export { freePort } from '../../../tools/free-port.js'
 export { startRedis } from '../../../tools/redis-process.js'
-export { query, ledgerMismatches } from '../../../tools/ledger-checks.js'
+export { query, ledgerMismatches, roomTotalMismatches } from '../../../tools/ledger-checks.js'
 
 /**
  * `node server/server.js` as a cluster member on a free port, its PUBLIC_URL
