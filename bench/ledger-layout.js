@@ -14,7 +14,8 @@
  * settled and credited. Layouts:
  *
  * - as shipped (server/store/migrations.js): each settlement adds its drop
- *   to its room's totals (room_buckets, migration 3);
+ *   to its room's totals (room_buckets, migration 3), and drops_room_id
+ *   (room, id) replaces drops_room;
  * - before migration 3: the drops_room index, and no room totals (the
  *   writer's statement adding to them still runs, its insert ignored by a
  *   trigger: a lookup of the drop's row by id);

@@ -86,12 +86,13 @@ ALTER TABLE drops ADD COLUMN payout_rule SMALLINT NOT NULL DEFAULT 1 CHECK (payo
   },
   {
     version: 3,
-    name: 'room totals by bucket kept with each settlement, instead of the drops_room index',
-    // The room statistics were a GROUP BY over every settled drop of the room
-    // (through drops_room): a scan growing with the room's history, and an
-    // index entry per drop at one of the rooms' insertion points, written in
-    // every commit. The totals are now kept as each drop settles, in the same
-    // transaction (records.js: DROP_SQL, ROOM_STATS_SQL), and read in one lookup.
+    name: 'room totals by bucket kept with each settlement; drops by room in id order',
+    // The room statistics were a GROUP BY over every settled drop of the room,
+    // and a room's listing (newest first) sorted all of its drops: both grew
+    // with the room's history, on the event loop. The totals are now kept as
+    // each drop settles, in the same transaction (records.js: DROP_SQL,
+    // ROOM_STATS_SQL) and read in one lookup; drops_room_id serves a room's
+    // drops in id order, so a page of them reads that page and no more.
     sql: `
 CREATE TABLE room_buckets (
   room           TEXT NOT NULL,
@@ -106,6 +107,7 @@ INSERT INTO room_buckets (room, engine_version, bucket, settled, bet, payout)
   SELECT room, engine_version, bucket, COUNT(*), SUM(bet), SUM(payout)
   FROM drops WHERE status = 'settled' GROUP BY room, engine_version, bucket;
 DROP INDEX drops_room;
+CREATE INDEX drops_room_id ON drops (room, id);
 `
   }
 ])

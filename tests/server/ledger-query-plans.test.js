@@ -1,0 +1,63 @@
+import { describe, it, expect, beforeAll, afterAll } from 'vitest'
+import { openStore } from '../../server/store/open-store.js'
+
+/**
+ * The operator's reads of a room and of a player run on the event loop
+ * (the SQLite store's own connection): each must read what it returns and
+ * not the ledger's history. Every statement the store prepares for them is
+ * planned by SQLite through an index, with no sort of its own (a sort
+ * means every matching drop was read first) and no scan of a whole table.
+ */
+describe('the SQLite ledger\'s plans for the operator\'s reads', () => {
+  let store
+  /** @type {string[]} the statements the store prepared or took from its cache since plansOf began */
+  let prepared = []
+  let prepare
+  beforeAll(async () => {
+    store = await openStore({ kind: 'sqlite', file: ':memory:' })
+    // Statements prepared anew, and those the store keeps prepared (_sql).
+    prepare = store.db.prepare.bind(store.db)
+    store.db.prepare = (sql) => { prepared.push(sql); return prepare(sql) }
+    const cached = store._sql.bind(store)
+    store._sql = (sql) => { prepared.push(sql); return cached(sql) }
+  })
+  afterAll(async () => { await store?.close() })
+
+  /** What `read` prepared, each statement's plan as SQLite's EXPLAIN QUERY PLAN lines. */
+  async function plansOf (read) {
+    prepared = []
+    await read()
+    expect(prepared.length).toBeGreaterThan(0)
+    const statements = [...new Set(prepared)]
+    prepared = []
+    return statements.map((sql) => ({ sql, plan: prepare(`EXPLAIN QUERY PLAN ${sql}`).all(...new Array(countParameters(sql)).fill('x')).map((row) => row.detail) }))
+  }
+
+  const reads = [
+    ['a room\'s statistics', () => store.roomStats('16-medium', '2.0.0')],
+    ['a page of a room\'s drops, newest first', () => store.listDrops({ room: '16-medium', limit: 100 })],
+    ['the next page of a room\'s drops', () => store.listDrops({ room: '16-medium', beforeId: 1000, limit: 100 })],
+    ['a page of a player\'s drops', () => store.listDrops({ playerId: 'player', limit: 100 })]
+  ]
+  it.each(reads)('%s: through an index, no sort, no scan of a table', async (name, read) => {
+    for (const { sql, plan } of await plansOf(read)) {
+      const lines = plan.join(' | ')
+      expect(lines, sql).not.toMatch(/TEMP B-TREE/)
+      // A SCAN is allowed only along an index (the drops in flight: a few rows whatever the history).
+      for (const line of plan) if (/^SCAN /.test(line)) expect(line, sql).toMatch(/USING (COVERING )?INDEX drops_in_flight/)
+    }
+  })
+
+  it('reads a room\'s drops through drops_room_id, its statistics from room_buckets, its drops in flight through drops_in_flight', async () => {
+    const [listing] = await plansOf(() => store.listDrops({ room: '16-medium', limit: 100 }))
+    expect(listing.plan.join(' | ')).toMatch(/drops_room_id \(room=\?/)
+    const stats = await plansOf(() => store.roomStats('16-medium', '2.0.0'))
+    expect(stats.map((s) => s.plan.join(' | ')).join(' || ')).toMatch(/room_buckets USING INDEX/)
+    // Its drops in flight through the partial index: drops_room_id would walk every drop of the room.
+    expect(stats.find((s) => /in_flight/.test(s.sql)).plan.join(' | ')).toMatch(/USING (COVERING )?INDEX drops_in_flight/)
+  })
+})
+
+function countParameters (sql) {
+  return (sql.match(/\?/g) ?? []).length
+}
