@@ -29,7 +29,6 @@ export async function ledgerMismatches (url, startingBalance) {
     HAVING p.balance <> $1::bigint * 1000 - COALESCE(SUM(d.bet), 0) * 1000 + COALESCE(SUM(d.payout), 0)`, [startingBalance])
 }
 
-
 /**
  * Every room's totals by bucket (room_buckets, kept as each drop settles)
  * equal the sums over its settled drops: the rows where they differ, or a

@@ -1,6 +1,6 @@
 import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { createHash } from 'node:crypto'
-import { storeBackend } from './helpers/stores.js'
+import { storeBackend, roomSumsOverDrops } from './helpers/stores.js'
 import { openStore } from '../../server/store/open-store.js'
 import { openSharedLedger } from '../../server/cluster/shared-ledger.js'
 import { toLedgerBatch } from '../../server/game/drop.js'
@@ -175,15 +175,9 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     const landed = (drop, bucket, multiplier) => ({ ...settlement(drop, multiplier), bucket })
     // Two drops of one room and bucket in one batch (added up within it), one in another bucket, another room and another version; 25 stays in flight.
     await store.commitBatch(toLedgerBatch({ drops: [], settlements: [landed(drops[0], 3, 0.5), landed(drops[1], 3, 1.1), landed(drops[2], 9, 5.6), landed(drops[3], 0, 0.3), landed(drops[4], 3, 2)] }))
-    const expected = async (room, engineVersion) => ({
-      buckets: (await backend.query(database, `SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout FROM drops
-        WHERE room = $1 AND engine_version = $2 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room, engineVersion]))
-        .map((row) => ({ bucket: Number(row.bucket), count: Number(row.count), bet: Number(row.bet), payout: Number(row.payout) / 1000 })),
-      inFlight: Number((await backend.query(database, "SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'in_flight'", [room, engineVersion]))[0].n)
-    })
     for (const [room, engineVersion] of [['16-medium', '2.0.0'], ['16-medium', '1.0.0'], ['8-low', '2.0.0'], ['12-high', '2.0.0']]) {
       const stats = await store.roomStats(room, engineVersion)
-      const sums = await expected(room, engineVersion)
+      const sums = await roomSumsOverDrops(backend, database, room, engineVersion)
       expect(stats.buckets).toEqual(sums.buckets)
       expect(stats.inFlight).toBe(sums.inFlight)
       expect(stats.settled).toBe(sums.buckets.reduce((n, b) => n + b.count, 0))

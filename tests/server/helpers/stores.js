@@ -68,3 +68,20 @@ function postgresBackend () {
     }
   }
 }
+
+/**
+ * A room's settled drops summed by bucket straight from the drops table,
+ * in the shape of the store's roomStats (payout in credits), and its drops
+ * in flight: what the totals the ledger keeps must equal.
+ * @param {ReturnType<typeof storeBackend>} backend @param {object} database
+ * @param {string} room @param {string} engineVersion
+ */
+export async function roomSumsOverDrops (backend, database, room, engineVersion) {
+  const buckets = await backend.query(database, `SELECT bucket, COUNT(*) AS count, SUM(bet) AS bet, SUM(payout) AS payout FROM drops
+    WHERE room = $1 AND engine_version = $2 AND status = 'settled' GROUP BY bucket ORDER BY bucket`, [room, engineVersion])
+  const [{ n }] = await backend.query(database, "SELECT COUNT(*) AS n FROM drops WHERE room = $1 AND engine_version = $2 AND status = 'in_flight'", [room, engineVersion])
+  return {
+    buckets: buckets.map((row) => ({ bucket: Number(row.bucket), count: Number(row.count), bet: Number(row.bet), payout: Number(row.payout) / 1000 })),
+    inFlight: Number(n)
+  }
+}
