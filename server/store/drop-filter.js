@@ -15,8 +15,14 @@ export function dropFilterSql (filter, placeholder) {
   const params = []
   const add = (sql, value) => { params.push(value); clauses.push(sql.replace('?', placeholder(params.length))) }
   if (filter.playerId !== undefined) add('d.player_id = ?', filter.playerId)
-  // Through the seed's unique hash to UNIQUE (server_seed_id, nonce): no index on the long hash in drops.
-  if (filter.serverSeedHash !== undefined) add('d.server_seed_id = (SELECT id FROM server_seeds WHERE hash = ?)', filter.serverSeedHash)
+  if (filter.serverSeedHash !== undefined) {
+    // The seed's player too (a seed is one player's): the pages in id order then walk that
+    // player's drops (drops_player) instead of sorting every drop of the seed for each page,
+    // which made an export of a seed cost its drops squared. A nonce still goes through
+    // UNIQUE (server_seed_id, nonce). No index on the long hash in drops.
+    add('d.player_id = (SELECT player_id FROM server_seeds WHERE hash = ?)', filter.serverSeedHash)
+    add('d.server_seed_id = (SELECT id FROM server_seeds WHERE hash = ?)', filter.serverSeedHash)
+  }
   if (filter.nonce !== undefined) add('d.nonce = ?', filter.nonce)
   if (filter.room !== undefined) add('d.room = ?', filter.room)
   if (filter.status !== undefined) add('d.status = ?', filter.status)

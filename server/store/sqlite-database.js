@@ -21,12 +21,13 @@ export const WAL_AUTOCHECKPOINT_PAGES = 10_000
  * timeout, since the store's connection (reads, migrations) and its writer
  * thread's take turns.
  * @param {string} file path or ':memory:'
- * @param {{ busyTimeoutMs?: number, autoCheckpoint?: boolean }} [options] busyTimeoutMs: how long a
+ * @param {{ busyTimeoutMs?: number, autoCheckpoint?: boolean, readOnly?: boolean }} [options] busyTimeoutMs: how long a
  *   write waits for another connection's lock (default 5 s); autoCheckpoint false: this
- *   connection's commits never checkpoint (the checkpoint thread does)
+ *   connection's commits never checkpoint (the checkpoint thread does); readOnly: a connection
+ *   that only reads a ledger the store has opened (the reader thread's), its journal already WAL
  * @returns {DatabaseSync}
  */
-export function openSqliteDatabase (file, { busyTimeoutMs = 5000, autoCheckpoint = true } = {}) {
+export function openSqliteDatabase (file, { busyTimeoutMs = 5000, autoCheckpoint = true, readOnly = false } = {}) {
   if (file !== ':memory:') {
     try {
       fs.mkdirSync(path.dirname(file), { recursive: true })
@@ -36,15 +37,17 @@ export function openSqliteDatabase (file, { busyTimeoutMs = 5000, autoCheckpoint
   }
   let db
   try {
-    db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true })
-    db.exec('PRAGMA journal_mode = WAL')
-    db.exec('PRAGMA synchronous = FULL')
+    db = new DatabaseSync(file, { timeout: Math.trunc(busyTimeoutMs), enableForeignKeyConstraints: true, readOnly })
+    if (!readOnly) {
+      db.exec('PRAGMA journal_mode = WAL')
+      db.exec('PRAGMA synchronous = FULL')
+    }
     // Node's SQLite is built with a 2 MB page cache; the ledger's indexes
     // (drops by player, time, room) outgrow it within minutes of play, and
     // every commit then re-reads their pages: 16 MB per connection, as
     // better-sqlite3 had (see docs/troubleshooting.md, the driver figures).
     db.exec('PRAGMA cache_size = -16000')
-    db.exec(`PRAGMA wal_autocheckpoint = ${autoCheckpoint ? WAL_AUTOCHECKPOINT_PAGES : 0}`)
+    if (!readOnly) db.exec(`PRAGMA wal_autocheckpoint = ${autoCheckpoint ? WAL_AUTOCHECKPOINT_PAGES : 0}`)
   } catch (error) {
     db?.close()
     throw cannotOpen(file, withSqliteCode(error))

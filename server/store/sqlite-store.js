@@ -1,9 +1,9 @@
-import { Worker } from 'node:worker_threads'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL } from './records.js'
-import { dropFilterSql } from './drop-filter.js'
 import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
+import { prepareReads, READER_THREAD_DATA } from './sqlite-reader-thread.js'
+import { SqliteThreadClient } from './sqlite-thread-client.js'
 import { gameError } from '../errors.js'
 import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
 import { SqliteCheckpointer } from './sqlite-checkpoint-thread.js'
@@ -12,12 +12,15 @@ import { SqliteCheckpointer } from './sqlite-checkpoint-thread.js'
  * The ledger on SQLite (Node's `node:sqlite`): WAL journal with synchronous=FULL,
  * so a committed transaction survives a power cut. Every write (the tick's
  * batches, new players, seed rotations: sqlite-writer-thread.js) runs on a
- * writer thread with its own connection (SqliteWriter, below), so the event loop never
+ * writer thread with its own connection, so the event loop never
  * waits for an fsync or for another process's write lock; a write that
  * cannot get the lock within the busy timeout fails with 503 E_UNAVAILABLE.
- * Reads run on this connection (WAL: they never wait for a writer), async
- * only to share one interface with the PostgreSQL store. An in-memory
- * database has no second connection: its writes run here.
+ * The listings of drops (sqlite-reader-thread.js), whose cost grows with
+ * what they cover, run on a reader thread with a read-only connection;
+ * point reads run on this connection (WAL: no read waits for a writer),
+ * async only to share one interface with the PostgreSQL store. An
+ * in-memory database has no second connection: its writes and listings
+ * run here.
  * @implements {import('./ledger-store.js').LedgerStore}
  */
 export class SqliteStore {
@@ -33,12 +36,18 @@ export class SqliteStore {
     this.db = openSqliteDatabase(file, { busyTimeoutMs })
     if (this.reserve) checkpointLeftoverWal(this.db)
     this._statements = new Map()
-    this._writer = file === ':memory:' ? null : new SqliteWriter(file, { busyTimeoutMs })
+    this._writer = file === ':memory:'
+      ? null
+      : new SqliteThreadClient({ entry: new URL('./sqlite-writer-thread.js', import.meta.url), dataKey: WRITER_THREAD_DATA, data: { file, busyTimeoutMs, nice: WRITER_THREAD_NICE }, name: 'writer' })
+    this._reader = file === ':memory:'
+      ? null
+      : new SqliteThreadClient({ entry: new URL('./sqlite-reader-thread.js', import.meta.url), dataKey: READER_THREAD_DATA, data: { file, busyTimeoutMs, nice: READER_THREAD_NICE }, name: 'reader' })
     // The writer's commits never checkpoint; this thread does, beside them (sqlite-checkpoint-thread.js).
     this.checkpointer = file === ':memory:'
       ? null
       : new SqliteCheckpointer(file, { intervalMs: checkpointIntervalMs, nice: WRITER_THREAD_NICE, busyTimeoutMs, finish: () => this._finishCheckpoint() })
     this._writesHere = null
+    this._readsHere = null
   }
 
   /** One write (sqlite-writer-thread.js), on the writer thread, durable when it resolves. */
@@ -58,6 +67,15 @@ export class SqliteStore {
       if (error.code === 'SQLITE_BUSY') throw gameError('E_UNAVAILABLE', 'the ledger is busy (another process holds its write lock); try again shortly', { cause: error })
       throw error
     }
+  }
+
+  /** One listing (sqlite-reader-thread.js), on the reader thread. */
+  async _read (op, args) {
+    if (!this._reader) {
+      this._readsHere ??= prepareReads(this.db)
+      return this._readsHere[op](args)
+    }
+    return this._reader.run(op, args)
   }
 
   /** The writer copies what the checkpoint thread's pass left (a failure: the next pass tries again). */
@@ -122,21 +140,21 @@ export class SqliteStore {
   }
 
   async listDrops (filter) {
-    const { where, params } = dropFilterSql(filter, () => '?')
-    const rows = this.db.prepare(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-      JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id DESC LIMIT ?`).all(...params, filter.limit)
-    return rows.map(toDropRecord)
+    return this._read('listDrops', filter)
   }
 
-  async * iterateDrops (filter, pageSize = 1000) {
+  /**
+   * Every match, oldest first, a page at a time from the reader thread. A
+   * page is copied from that thread onto the event loop (about 5 µs a
+   * drop): EXPORT_PAGE_DROPS a page keep each copy near a millisecond.
+   */
+  async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
     let afterId = 0
     for (;;) {
-      const { where, params } = dropFilterSql({ ...filter, afterId }, () => '?')
-      const rows = this.db.prepare(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-        JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id LIMIT ?`).all(...params, pageSize)
-      for (const row of rows) yield toDropRecord(row)
-      if (rows.length < pageSize) return
-      afterId = Number(rows[rows.length - 1].id)
+      const drops = await this._read('dropsPage', { filter, afterId, pageSize })
+      yield * drops
+      if (drops.length < pageSize) return
+      afterId = drops[drops.length - 1].id
     }
   }
 
@@ -163,10 +181,14 @@ export class SqliteStore {
     // The checkpoint thread first: it asks the writer for work, and the writer's close waits for what it was given.
     await this.checkpointer?.close()
     await this._writer?.close()
+    await this._reader?.close()
     await this.reserve?.idle()
     if (this.db.isOpen) this.db.close()
   }
 }
+
+/** Drops per page of an export read from the reader thread (SqliteStore.iterateDrops). */
+export const EXPORT_PAGE_DROPS = 250
 
 /**
  * The writer thread's nice value: below the event loop's 0, so that where
@@ -178,76 +200,8 @@ export class SqliteStore {
 export const WRITER_THREAD_NICE = 10
 
 /**
- * The store's client of its writer thread: runs the ledger's writes
- * (sqlite-writer-thread.js: the tick's batches, new players, seed
- * rotations) on a worker thread with its own SQLite
- * connection, so the event loop never waits for a commit's fsync (it did: up
- * to ~10 ms per tick under load, see loadtest/RESULTS.md) nor for a write
- * lock another process holds (a session once froze every room for the 5 s
- * busy timeout). Writes run one at a time in the order they are sent, and
- * each promise settles only once its transaction is durable, or rolled back
- * with the error (its `code` is SQLite's, e.g. SQLITE_BUSY). The thread
- * runs at WRITER_THREAD_NICE.
+ * The reader thread's nice value: below the writer's too, so that on a
+ * busy core an operator's long listing gives way to the commits the
+ * players wait for.
  */
-class SqliteWriter {
-  /** @param {string} file the database file (not ':memory:') @param {{ busyTimeoutMs?: number }} [options] */
-  constructor (file, { busyTimeoutMs } = {}) {
-    this.file = file
-    this.busyTimeoutMs = busyTimeoutMs
-    /** @type {Worker | null} */
-    this.worker = null
-    this.nextId = 1
-    /** @type {Map<number, { resolve: (result: any) => void, reject: (error: Error) => void }>} */
-    this.pending = new Map()
-    /** settles when the last batch sent has */
-    this._last = Promise.resolve()
-  }
-
-  /**
-   * @param {import('./sqlite-writer-thread.js').WRITES[number]} op @param {any} args
-   * @returns {Promise<any>} the write's result, once durable
-   */
-  run (op, args) {
-    const worker = this.worker ?? this._start()
-    const id = this.nextId++
-    const committed = new Promise((resolve, reject) => {
-      this.pending.set(id, { resolve, reject })
-      worker.postMessage({ id, op, args })
-    })
-    this._last = committed.catch(() => {})
-    return committed
-  }
-
-  _start () {
-    const options = { file: this.file, busyTimeoutMs: this.busyTimeoutMs, nice: WRITER_THREAD_NICE }
-    const worker = new Worker(new URL('./sqlite-writer-thread.js', import.meta.url), { workerData: { [WRITER_THREAD_DATA]: options } })
-    worker.on('message', ({ id, result, error, code }) => {
-      const waiter = this.pending.get(id)
-      if (!waiter) return
-      this.pending.delete(id)
-      if (error === undefined) waiter.resolve(result)
-      else waiter.reject(Object.assign(new Error(error), { code }))
-    })
-    // A thread that dies takes its open transaction with it (rolled back): fail what waited, start afresh next time.
-    const lost = (error) => {
-      if (this.worker === worker) this.worker = null
-      for (const waiter of this.pending.values()) waiter.reject(error)
-      this.pending.clear()
-    }
-    worker.on('error', lost)
-    worker.on('exit', (code) => lost(new Error(`the SQLite writer thread exited (${code})`)))
-    this.worker = worker
-    return worker
-  }
-
-  /** Stops the thread once the writes sent to it are done. */
-  async close () {
-    await this._last
-    const worker = this.worker
-    if (!worker) return
-    this.worker = null
-    const exited = new Promise((resolve) => worker.once('exit', resolve))
-    worker.postMessage({ type: 'close' })
-    await exited
-  }
-}
+export const READER_THREAD_NICE = 15

@@ -3,7 +3,7 @@
  * (prepareWrites: the tick's batches, new players, seed rotations, and the
  * end of a checkpoint), and the
  * thread that runs them on a connection of its own (the store starts it:
- * SqliteWriter in sqlite-store.js). It runs the writes it is sent in order,
+ * SqliteStore in sqlite-store.js, through SqliteThreadClient). It runs the writes it is sent in order,
  * each durable (synchronous=FULL) before it answers with the write's
  * result; a write that fails answers with the error's message and SQLite
  * code (SQLITE_BUSY: the write lock stayed held by someone else for the
@@ -168,7 +168,7 @@ export function immediateTransaction (db, work) {
 /** The names of the writes prepareWrites() returns (what the writer thread accepts). */
 export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed', 'checkpoint'])
 
-/** The key of the thread's workerData (SqliteWriter in sqlite-store.js sets it): this file was started as the writer thread. */
+/** The key of the thread's workerData (SqliteStore sets it): this file was started as the writer thread. */
 export const WRITER_THREAD_DATA = 'plinkoSqliteWriter'
 
 /**

@@ -2,11 +2,14 @@ import { describe, it, expect, beforeAll, afterAll } from 'vitest'
 import { openStore } from '../../server/store/open-store.js'
 
 /**
- * The operator's reads of a room and of a player run on the event loop
- * (the SQLite store's own connection): each must read what it returns and
- * not the ledger's history. Every statement the store prepares for them is
- * planned by SQLite through an index, with no sort of its own (a sort
- * means every matching drop was read first) and no scan of a whole table.
+ * The operator's reads of a room, a player and a seed must each read what
+ * they return and not the ledger's history: a room's statistics run on
+ * the event loop, and a listing's page on the reader thread holds the
+ * operator (and each page of an export) for as long as it reads (an
+ * in-memory store, as here, runs the same statements on its own
+ * connection). Every statement the store prepares for them is planned by
+ * SQLite through an index, with no sort of its own (a sort means every
+ * matching drop was read first) and no scan of a whole table.
  */
 describe('the SQLite ledger\'s plans for the operator\'s reads', () => {
   let store
@@ -37,7 +40,11 @@ describe('the SQLite ledger\'s plans for the operator\'s reads', () => {
     ['a room\'s statistics', () => store.roomStats('16-medium', '2.0.0')],
     ['a page of a room\'s drops, newest first', () => store.listDrops({ room: '16-medium', limit: 100 })],
     ['the next page of a room\'s drops', () => store.listDrops({ room: '16-medium', beforeId: 1000, limit: 100 })],
-    ['a page of a player\'s drops', () => store.listDrops({ playerId: 'player', limit: 100 })]
+    ['a page of a player\'s drops', () => store.listDrops({ playerId: 'player', limit: 100 })],
+    ['a page of a seed\'s drops, newest first', () => store.listDrops({ serverSeedHash: 'hash', limit: 100 })],
+    ['a seed\'s drop by its nonce', () => store.listDrops({ serverSeedHash: 'hash', nonce: 3, limit: 10 })],
+    ['an export\'s page of a seed\'s drops', () => firstPage(store.iterateDrops({ serverSeedHash: 'hash' }))],
+    ['an export\'s page of a player\'s drops', () => firstPage(store.iterateDrops({ playerId: 'player' }))]
   ]
   it.each(reads)('%s: through an index, no sort, no scan of a table', async (name, read) => {
     for (const { sql, plan } of await plansOf(read)) {
@@ -56,7 +63,19 @@ describe('the SQLite ledger\'s plans for the operator\'s reads', () => {
     // Its drops in flight through the partial index: drops_room_id would walk every drop of the room.
     expect(stats.find((s) => /in_flight/.test(s.sql)).plan.join(' | ')).toMatch(/USING (COVERING )?INDEX drops_in_flight/)
   })
+
+  it('pages a seed\'s drops along its player\'s (drops_player, from the cursor on), and finds one by its nonce through UNIQUE (server_seed_id, nonce)', async () => {
+    const [page] = await plansOf(() => firstPage(store.iterateDrops({ serverSeedHash: 'hash' })))
+    expect(page.plan.join(' | ')).toMatch(/drops_player \(player_id=\? AND id>\?\)/)
+    const [byNonce] = await plansOf(() => store.listDrops({ serverSeedHash: 'hash', nonce: 3, limit: 10 }))
+    expect(byNonce.plan.join(' | ')).toMatch(/INDEX sqlite_autoindex_drops_\d+ \(server_seed_id=\? AND nonce=\?\)/)
+  })
 })
+
+/** Reads an iteration's first page (the store reads a page at a time). */
+async function firstPage (drops) {
+  for await (const drop of drops) return drop
+}
 
 function countParameters (sql) {
   return (sql.match(/\?/g) ?? []).length

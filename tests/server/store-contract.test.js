@@ -189,4 +189,32 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     expect(medium.rtp).toBeCloseTo((25 + 3.5 + 3.3 + 11.2) / 22, 12)
     expect((await store.roomStats('12-high', '2.0.0'))).toMatchObject({ settled: 0, inFlight: 0, buckets: [], rtp: null })
   })
+
+  it("pages a seed's drops oldest first and newest first: only that seed's, across pages, another seed and another player's drops between them left out", async () => {
+    const collect = async (filter, pageSize) => { const ids = []; for await (const drop of store.iterateDrops(filter, pageSize)) ids.push(drop.id); return ids }
+    await store.createPlayer(newPlayer('cy', 1000))
+    await store.createPlayer(newPlayer('di', 1000))
+    const cy = await store.loadAccount('player-cy')
+    const di = await store.loadAccount('player-di')
+    const first = cy.seed
+    // Drops 40-46 on cy's first seed, di's 50-52 recorded between them.
+    await store.commitBatch(toLedgerBatch({ drops: [40, 41, 42].map((id, n) => gameDrop(id, cy, { nonce: n })), settlements: [] }))
+    await store.commitBatch(toLedgerBatch({ drops: [50, 51, 52].map((id, n) => gameDrop(id, di, { nonce: n })), settlements: [] }))
+    await store.commitBatch(toLedgerBatch({ drops: [43, 44, 45, 46].map((id, n) => gameDrop(id, cy, { nonce: 3 + n })), settlements: [] }))
+    await store.rotateSeed({ playerId: 'player-cy', oldSeedId: first.id, newSeed: seedNamed('cy-2'), at: Date.UTC(2026, 11, 1, 15) })
+    const second = (await store.loadAccount('player-cy')).seed
+    await store.commitBatch(toLedgerBatch({ drops: [60, 61, 62].map((id, n) => gameDrop(id, { ...cy, seed: second }, { nonce: n })), settlements: [] }))
+
+    expect(await collect({ serverSeedHash: first.hash }, 2)).toEqual([40, 41, 42, 43, 44, 45, 46])
+    expect(await collect({ serverSeedHash: first.hash }, 7)).toEqual([40, 41, 42, 43, 44, 45, 46])
+    expect(await collect({ serverSeedHash: second.hash }, 2)).toEqual([60, 61, 62])
+    expect(await collect({ playerId: 'player-cy', serverSeedHash: first.hash }, 3)).toEqual([40, 41, 42, 43, 44, 45, 46])
+    expect(await collect({ playerId: 'player-di', serverSeedHash: first.hash }, 3)).toEqual([])
+    expect(await collect({ serverSeedHash: di.seed.hash }, 2)).toEqual([50, 51, 52])
+    expect(await collect({ serverSeedHash: 'f'.repeat(64) }, 2)).toEqual([])
+    expect((await store.listDrops({ serverSeedHash: first.hash, limit: 3 })).map((d) => d.id)).toEqual([46, 45, 44])
+    expect((await store.listDrops({ serverSeedHash: first.hash, beforeId: 44, limit: 10 })).map((d) => d.id)).toEqual([43, 42, 41, 40])
+    expect((await store.listDrops({ serverSeedHash: first.hash, nonce: 2, limit: 10 })).map((d) => d.id)).toEqual([42])
+    expect((await store.listDrops({ serverSeedHash: second.hash, nonce: 2, limit: 10 })).map((d) => d.id)).toEqual([62])
+  })
 })
