@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -19,6 +19,9 @@ const types = {
   }
 }
 
+/** Connections the listings of drops have, apart from the store's pool (PostgresStore). */
+export const LISTING_POOL_SIZE = 2
+
 /**
  * The ledger on PostgreSQL through a `pg` pool, with the same schema and
  * interface as the SQLite store. A batch is a handful of statements whatever
@@ -30,8 +33,13 @@ export class PostgresStore {
   constructor ({ url, poolSize = 10 }) {
     this.kind = 'postgres'
     this.pool = new pg.Pool({ connectionString: url, max: poolSize, types })
+    // The listings of drops (an operator's, however broad; a player's history; an export's
+    // pages) on connections of their own: however many run at once, and however long, they
+    // never take the connection a tick's commit waits for.
+    this.listingPool = new pg.Pool({ connectionString: url, max: LISTING_POOL_SIZE, types })
     // An idle client losing its connection must not crash the process; the next query reconnects.
     this.pool.on('error', () => {})
+    this.listingPool.on('error', () => {})
   }
 
   /** Runs `work(client)` inside BEGIN/COMMIT on one pooled connection. */
@@ -149,9 +157,7 @@ export class PostgresStore {
 
   async listDrops (filter) {
     const { where, params } = dropFilterSql(filter, (n) => '$' + n)
-    const { rows } = await this.pool.query(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-      JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id DESC LIMIT $${params.length + 1}`,
-    [...params, filter.limit])
+    const { rows } = await this.listingPool.query(dropsPageSql(where, 'DESC', `$${params.length + 1}`), [...params, filter.limit])
     return rows.map(toDropRecord)
   }
 
@@ -159,9 +165,7 @@ export class PostgresStore {
     let afterId = 0
     for (;;) {
       const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n)
-      const { rows } = await this.pool.query(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-        JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id LIMIT $${params.length + 1}`,
-      [...params, pageSize])
+      const { rows } = await this.listingPool.query(dropsPageSql(where, 'ASC', `$${params.length + 1}`), [...params, pageSize])
       for (const row of rows) yield toDropRecord(row)
       if (rows.length < pageSize) return
       afterId = Number(rows[rows.length - 1].id)
@@ -192,6 +196,7 @@ export class PostgresStore {
   }
 
   async close () {
+    if (!this.listingPool.ended) await this.listingPool.end()
     if (!this.pool.ended) await this.pool.end()
   }
 }

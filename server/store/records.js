@@ -191,6 +191,17 @@ export const NEXT_NONCE_SQL = Object.freeze({
 export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_server_seed`
 
 /**
+ * A page of drops (with the seed where revealed) in id order, in either
+ * dialect: the listings (`DESC`, newest first) and an export's pages
+ * (`ASC`) of both stores.
+ * @param {string} where from dropFilterSql @param {'ASC' | 'DESC'} order @param {string} limit the limit's parameter marker
+ */
+export function dropsPageSql (where, order, limit) {
+  return `SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
+    JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id ${order} LIMIT ${limit}`
+}
+
+/**
  * @typedef {object} NewDropRow what the ledger writes when a drop is accepted (NEW_DROP_COLUMNS)
  * @property {number} id @property {string} playerId @property {string} room
  * @property {number} rows @property {string} risk @property {string} engineVersion

@@ -12,7 +12,7 @@
  * than the hop to a thread.
  */
 import { isMainThread, parentPort, workerData } from 'node:worker_threads'
-import { toDropRecord, DROP_COLUMNS_WITH_REVEALED_SEED } from './records.js'
+import { toDropRecord, dropsPageSql } from './records.js'
 import { dropFilterSql } from './drop-filter.js'
 import { openSqliteDatabase, withSqliteCode } from './sqlite-database.js'
 import { lowerThisThreadPriority } from './thread-priority.js'
@@ -25,8 +25,7 @@ import { lowerThisThreadPriority } from './thread-priority.js'
 export function prepareReads (db) {
   const selectDrops = (filter, order, limit) => {
     const { where, params } = dropFilterSql(filter, () => '?')
-    return db.prepare(`SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-      JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id ${order} LIMIT ?`).all(...params, limit).map(toDropRecord)
+    return db.prepare(dropsPageSql(where, order, '?')).all(...params, limit).map(toDropRecord)
   }
   return {
     /** Newest first, at most `filter.limit`. @param {import('./drop-filter.js').DropFilter & { limit: number }} filter */
