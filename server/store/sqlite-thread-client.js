@@ -8,7 +8,10 @@ import { Worker } from 'node:worker_threads'
  * `{ id, error, code }` (the error's message and SQLite's code, e.g.
  * SQLITE_BUSY), in the order the calls were sent. A thread that dies
  * fails every call it held (a write it held was rolled back with its
- * connection) and the next call starts a new one.
+ * connection) and the next call starts a new one. Once closed, a call is
+ * refused (code SQLITE_CLOSED) rather than starting a thread that would
+ * keep the process alive after its store closed (an export's next page
+ * after shutdown).
  */
 export class SqliteThreadClient {
   /**
@@ -30,6 +33,7 @@ export class SqliteThreadClient {
     this.pending = new Map()
     /** settles when the last call sent has */
     this._last = Promise.resolve()
+    this.closed = false
   }
 
   /**
@@ -37,6 +41,7 @@ export class SqliteThreadClient {
    * @returns {Promise<any>} the thread's result (a write's: once durable)
    */
   run (op, args) {
+    if (this.closed) return Promise.reject(Object.assign(new Error(`the SQLite ${this.name} thread is closed: its store was closed`), { code: 'SQLITE_CLOSED' }))
     const worker = this.worker ?? this._start()
     const id = this.nextId++
     const answered = new Promise((resolve, reject) => {
@@ -67,8 +72,9 @@ export class SqliteThreadClient {
     return worker
   }
 
-  /** Stops the thread once the calls sent to it are answered. */
+  /** Stops the thread once the calls sent to it are answered; later calls are refused. */
   async close () {
+    this.closed = true
     await this._last
     const worker = this.worker
     if (!worker) return

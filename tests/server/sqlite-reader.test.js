@@ -122,6 +122,18 @@ describe('SQLite reader thread', () => {
     expect(store._reader.worker).not.toBe(first)
   })
 
+  it('refuses a read once its store is closed, without starting a thread: an export cut short by a shutdown ends with an error', async () => {
+    const second = new SqliteStore({ file })
+    const pages = second.iterateDrops({ from: 1, to: 5_000 }, 1000)
+    expect((await pages.next()).value.id).toBe(1)
+    for (let i = 2; i <= 1000; i++) await pages.next()
+    await second.close()
+    await expect(pages.next()).rejects.toMatchObject({ code: 'SQLITE_CLOSED', message: expect.stringMatching(/reader thread is closed/) })
+    expect(second._reader.worker).toBeNull()
+    await expect(second.listDrops({ limit: 1 })).rejects.toMatchObject({ code: 'SQLITE_CLOSED' })
+    expect(second._reader.worker).toBeNull()
+  })
+
   it('opens its connection read-only: it cannot write', () => {
     const db = openSqliteDatabase(file, { readOnly: true })
     try {
