@@ -3,8 +3,8 @@
  * they cover (an operator's listing of drops by time, room, player or
  * seed, an export's pages), run on a thread with a read-only connection
  * of its own, so that however many drops one reads, the event loop keeps
- * ticking the rooms (one listing of a 100,000-drop time window held it
- * for 220 ms: loadtest/RESULTS.md). The store starts it (SqliteStore in
+ * ticking the rooms (a page of a 100,000-drop time window held it for
+ * 250–270 ms: bench/ledger-reads.js, loadtest/RESULTS.md). The store starts it (SqliteStore in
  * sqlite-store.js, through SqliteThreadClient); imported anywhere else
  * (an in-memory store runs the same reads on its own connection), this
  * file starts no thread. Point reads (an account, a drop by id, a room's
