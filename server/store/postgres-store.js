@@ -1,7 +1,7 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
-import { dropFilterSql } from './drop-filter.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, EXPORT_PAGE_DROPS, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
+import { dropFilterSql, SEED_OF_HASH_SQL } from './drop-filter.js'
 
 const INT8_OID = 20
 const NUMERIC_OID = 1700
@@ -156,20 +156,31 @@ export class PostgresStore {
   }
 
   async listDrops (filter) {
-    const { where, params } = dropFilterSql(filter, (n) => '$' + n)
+    const seed = await this._seedOfFilter(filter)
+    if (seed === null) return []
+    const { where, params } = dropFilterSql(filter, (n) => '$' + n, seed)
     const { rows } = await this.listingPool.query(dropsPageSql(where, 'DESC', `$${params.length + 1}`), [...params, filter.limit])
     return rows.map(toDropRecord)
   }
 
-  async * iterateDrops (filter, pageSize = 1000) {
+  async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
+    const seed = await this._seedOfFilter(filter)
+    if (seed === null) return
     let afterId = 0
     for (;;) {
-      const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n)
+      const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n, seed)
       const { rows } = await this.listingPool.query(dropsPageSql(where, 'ASC', `$${params.length + 1}`), [...params, pageSize])
       for (const row of rows) yield toDropRecord(row)
       if (rows.length < pageSize) return
       afterId = Number(rows[rows.length - 1].id)
     }
+  }
+
+  /** The seed a filter names by its hash (drop-filter.js SEED_OF_HASH_SQL): undefined if none is named, null if there is no such seed. */
+  async _seedOfFilter (filter) {
+    if (filter.serverSeedHash === undefined) return undefined
+    const { rows } = await this.listingPool.query(SEED_OF_HASH_SQL.postgres, [filter.serverSeedHash])
+    return rows[0] ?? null
   }
 
   async listInFlightDrops () {

@@ -191,6 +191,16 @@ export const NEXT_NONCE_SQL = Object.freeze({
 export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS NULL THEN NULL ELSE s.seed END AS revealed_server_seed`
 
 /**
+ * Drops per page of an export (both stores' iterateDrops). Each page lands
+ * on the event loop whole: PostgreSQL's rows parsed by pg, SQLite's copied
+ * from its reader thread. Exporting a seed of 125,500 drops from
+ * PostgreSQL, the event loop's longest pause was 7.7–8.4 ms at 1,000 a
+ * page, 3.7–5.4 ms at 250, as long as a listing's page of 100
+ * (bench/ledger-reads.js --ledger postgres).
+ */
+export const EXPORT_PAGE_DROPS = 250
+
+/**
  * A page of drops (with the seed where revealed) in id order, in either
  * dialect: the listings (`DESC`, newest first) and an export's pages
  * (`ASC`) of both stores.

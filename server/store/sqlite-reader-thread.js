@@ -13,18 +13,24 @@
  */
 import { isMainThread, parentPort, workerData } from 'node:worker_threads'
 import { toDropRecord, dropsPageSql } from './records.js'
-import { dropFilterSql } from './drop-filter.js'
+import { dropFilterSql, SEED_OF_HASH_SQL } from './drop-filter.js'
 import { openSqliteDatabase, withSqliteCode } from './sqlite-database.js'
 import { lowerThisThreadPriority } from './thread-priority.js'
 
 /**
  * The reads of drops that may cover many of them, on one connection. Each
- * statement is prepared per call: its WHERE depends on the filter.
+ * page's statement is prepared per call: its WHERE depends on the filter.
  * @param {import('node:sqlite').DatabaseSync} db
  */
 export function prepareReads (db) {
+  const seedOfHash = db.prepare(SEED_OF_HASH_SQL.sqlite)
   const selectDrops = (filter, order, limit) => {
-    const { where, params } = dropFilterSql(filter, () => '?')
+    let seed
+    if (filter.serverSeedHash !== undefined) {
+      seed = seedOfHash.get(filter.serverSeedHash)
+      if (!seed) return [] // no such seed: no drops
+    }
+    const { where, params } = dropFilterSql(filter, () => '?', seed)
     return db.prepare(dropsPageSql(where, order, '?')).all(...params, limit).map(toDropRecord)
   }
   return {

@@ -1,5 +1,5 @@
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL, EXPORT_PAGE_DROPS } from './records.js'
 import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
 import { prepareReads, READER_THREAD_DATA } from './sqlite-reader-thread.js'
@@ -143,12 +143,7 @@ export class SqliteStore {
     return this._read('listDrops', filter)
   }
 
-  /**
-   * Every match, oldest first, a page at a time from the reader thread. A
-   * page is copied from that thread onto the event loop (structuredClone
-   * of 1,000 drop records, both ways: 3–4 ms): EXPORT_PAGE_DROPS a page
-   * keep each copy's share on the event loop near half a millisecond.
-   */
+  /** Every match, oldest first, EXPORT_PAGE_DROPS at a time from the reader thread. */
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
     let afterId = 0
     for (;;) {
@@ -187,9 +182,6 @@ export class SqliteStore {
     if (this.db.isOpen) this.db.close()
   }
 }
-
-/** Drops per page of an export read from the reader thread (SqliteStore.iterateDrops). */
-export const EXPORT_PAGE_DROPS = 250
 
 /**
  * The writer thread's nice value: below the event loop's 0, so that where

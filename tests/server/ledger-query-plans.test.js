@@ -18,6 +18,8 @@ describe('the SQLite ledger\'s plans for the operator\'s reads', () => {
   let prepare
   beforeAll(async () => {
     store = await openStore({ kind: 'sqlite', file: ':memory:' })
+    // A seed to name by its hash: the store reads it (its id and player) before it plans a page of its drops.
+    await store.createPlayer({ id: 'player', tokenHash: 'token', balance: 0, clientSeed: 'c', createdAt: 1, seed: { id: 'seed', seed: 's'.repeat(64), hash: 'hash' } })
     // Statements prepared anew, and those the store keeps prepared (_sql).
     prepare = store.db.prepare.bind(store.db)
     store.db.prepare = (sql) => { prepared.push(sql); return prepare(sql) }
