@@ -134,7 +134,7 @@ describe('SQLite reader thread', () => {
     expect(second._reader.worker).toBeNull()
   })
 
-  it('opens its connection read-only: it cannot write', () => {
+  it('a read-only connection, as the thread opens (sqlite-database.js readOnly), cannot write', () => {
     const db = openSqliteDatabase(file, { readOnly: true })
     try {
       expect(() => db.exec("UPDATE players SET balance = 1 WHERE id = 'p'")).toThrow(/readonly/)
