@@ -1,6 +1,6 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, EXPORT_PAGE_DROPS, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, EXPORT_PAGE_DROPS, dropsInPages, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
 import { dropFilterSql, SEED_OF_HASH_SQL } from './drop-filter.js'
 
 const INT8_OID = 20
@@ -166,14 +166,11 @@ export class PostgresStore {
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
     const seed = await this._seedOfFilter(filter)
     if (seed === null) return
-    let afterId = 0
-    for (;;) {
+    yield * dropsInPages(async (afterId) => {
       const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n, seed)
       const { rows } = await this.listingPool.query(dropsPageSql(where, 'ASC', `$${params.length + 1}`), [...params, pageSize])
-      for (const row of rows) yield toDropRecord(row)
-      if (rows.length < pageSize) return
-      afterId = Number(rows[rows.length - 1].id)
-    }
+      return rows.map(toDropRecord)
+    }, pageSize)
   }
 
   /** The seed a filter names by its hash (drop-filter.js SEED_OF_HASH_SQL): undefined if none is named, null if there is no such seed. */

@@ -201,6 +201,23 @@ export const DROP_COLUMNS_WITH_REVEALED_SEED = `d.*, CASE WHEN s.revealed_at IS 
 export const EXPORT_PAGE_DROPS = 250
 
 /**
+ * Every drop an export matches, oldest first, read a page at a time: each
+ * page the next `pageSize` drops with an id above the last one read (both
+ * stores' iterateDrops).
+ * @param {(afterId: number) => Promise<object[]>} readPage drop records in id order, at most `pageSize`
+ * @param {number} pageSize
+ */
+export async function * dropsInPages (readPage, pageSize) {
+  let afterId = 0
+  for (;;) {
+    const drops = await readPage(afterId)
+    yield * drops
+    if (drops.length < pageSize) return
+    afterId = drops[drops.length - 1].id
+  }
+}
+
+/**
  * A page of drops (with the seed where revealed) in id order, in either
  * dialect: the listings (`DESC`, newest first) and an export's pages
  * (`ASC`) of both stores.

@@ -1,5 +1,5 @@
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL, EXPORT_PAGE_DROPS } from './records.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL, EXPORT_PAGE_DROPS, dropsInPages } from './records.js'
 import { openSqliteDatabase } from './sqlite-database.js'
 import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
 import { prepareReads, READER_THREAD_DATA } from './sqlite-reader-thread.js'
@@ -144,14 +144,8 @@ export class SqliteStore {
   }
 
   /** Every match, oldest first, EXPORT_PAGE_DROPS at a time from the reader thread. */
-  async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    let afterId = 0
-    for (;;) {
-      const drops = await this._read('dropsPage', { filter, afterId, pageSize })
-      yield * drops
-      if (drops.length < pageSize) return
-      afterId = drops[drops.length - 1].id
-    }
+  iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
+    return dropsInPages((afterId) => this._read('dropsPage', { filter, afterId, pageSize }), pageSize)
   }
 
   async listInFlightDrops () {
