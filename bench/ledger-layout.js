@@ -19,7 +19,10 @@
  * - before migration 3: the drops_room index, and no room totals (the
  *   writer's statement adding to them still runs, its insert ignored by a
  *   trigger: a lookup of the drop's row by id);
- * - less the drops_player index (a player's history would go through its seeds).
+ * - less the drops_player index (a player's history would go through its seeds);
+ * - the shipped schema in a file of 1,024- or 2,048-byte pages instead of
+ *   SQLite's 4,096 (each random write then logs a smaller page; the B-trees
+ *   are deeper).
  *
  * Each index is a write at a random place per drop (a player's or a
  * room's page). Another such write, each batch's update of its seeds'
@@ -36,6 +39,7 @@ import os from 'node:os'
 import path from 'node:path'
 import crypto from 'node:crypto'
 import { parseArgs } from 'node:util'
+import { DatabaseSync } from 'node:sqlite'
 import { MIGRATIONS } from '../server/store/migrations.js'
 import { openSqliteDatabase } from '../server/store/sqlite-database.js'
 import { prepareWrites } from '../server/store/sqlite-writer-thread.js'
@@ -61,7 +65,9 @@ CREATE TRIGGER room_buckets_ignored BEFORE INSERT ON room_buckets BEGIN SELECT R
 const LAYOUTS = [
   { name: 'as shipped', migrations: MIGRATIONS, drop: [] },
   { name: 'before migration 3', migrations: MIGRATIONS.filter((m) => m.version < 3), drop: [], then: ROOM_TOTALS_IGNORED },
-  { name: 'without drops_player', migrations: MIGRATIONS, drop: ['drops_player'] }
+  { name: 'without drops_player', migrations: MIGRATIONS, drop: ['drops_player'] },
+  { name: 'pages of 1,024 bytes', migrations: MIGRATIONS, drop: [], pageSize: 1024 },
+  { name: 'pages of 2,048 bytes', migrations: MIGRATIONS, drop: [], pageSize: 2048 }
 ]
 
 const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-ledger-layout-'))
@@ -87,6 +93,7 @@ for (const layout of LAYOUTS) {
 /** One layout on a fresh file: CPU µs and WAL pages per drop over the measured batches. */
 function run (layout, file) {
   for (const f of [file, `${file}-wal`, `${file}-shm`]) fs.rmSync(f, { force: true })
+  if (layout.pageSize) setPageSize(file, layout.pageSize)
   const db = openSqliteDatabase(file, { autoCheckpoint: false })
   for (const migration of layout.migrations) {
     let sql = migration.sql
@@ -127,6 +134,14 @@ function run (layout, file) {
   db.close()
   const n = BATCHES * PER_BATCH
   return { cpu: (used.user + used.system) / n, user: used.user / n, system: used.system / n, pages: pages / n }
+}
+
+/** A new, empty database file with pages of `bytes`, set before the store's connection turns on WAL (a WAL file keeps its page size). */
+function setPageSize (file, bytes) {
+  const db = new DatabaseSync(file)
+  db.exec(`PRAGMA page_size = ${bytes}`)
+  db.exec('VACUUM')
+  db.close()
 }
 
 function createPlayers (db) {
