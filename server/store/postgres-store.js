@@ -158,19 +158,20 @@ export class PostgresStore {
   async listDrops (filter) {
     const seed = await this._seedOfFilter(filter)
     if (seed === null) return []
-    const { where, params } = dropFilterSql(filter, (n) => '$' + n, seed)
-    const { rows } = await this.listingPool.query(dropsPageSql(where, 'DESC', `$${params.length + 1}`), [...params, filter.limit])
-    return rows.map(toDropRecord)
+    return this._selectDrops(filter, seed, 'DESC', filter.limit)
   }
 
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
     const seed = await this._seedOfFilter(filter)
     if (seed === null) return
-    yield * dropsInPages(async (afterId) => {
-      const { where, params } = dropFilterSql({ ...filter, afterId }, (n) => '$' + n, seed)
-      const { rows } = await this.listingPool.query(dropsPageSql(where, 'ASC', `$${params.length + 1}`), [...params, pageSize])
-      return rows.map(toDropRecord)
-    }, pageSize)
+    yield * dropsInPages((afterId) => this._selectDrops({ ...filter, afterId }, seed, 'ASC', pageSize), pageSize)
+  }
+
+  /** A page of the drops `filter` matches, in id order, on the listing pool. */
+  async _selectDrops (filter, seed, order, limit) {
+    const { where, params } = dropFilterSql(filter, (n) => '$' + n, seed)
+    const { rows } = await this.listingPool.query(dropsPageSql(where, order, `$${params.length + 1}`), [...params, limit])
+    return rows.map(toDropRecord)
   }
 
   /** The seed a filter names by its hash (drop-filter.js SEED_OF_HASH_SQL): undefined if none is named, null if there is no such seed. */

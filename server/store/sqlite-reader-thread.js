@@ -47,8 +47,11 @@ export function prepareReads (db) {
 /** The names of the reads prepareReads() returns (what the reader thread accepts). */
 export const READS = Object.freeze(['listDrops', 'dropsPage'])
 
-/** The key of the thread's workerData (SqliteStore sets it): this file was started as the reader thread. */
-export const READER_THREAD_DATA = 'plinkoSqliteReader'
+/**
+ * This file as a thread (SqliteThreadClient): its module, and the key of its
+ * workerData that tells it it was started as the reader thread.
+ */
+export const READER_THREAD = Object.freeze({ entry: new URL(import.meta.url), dataKey: 'plinkoSqliteReader', name: 'reader' })
 
 /**
  * The thread's entry: opens a read-only connection and answers each `{ id,
@@ -76,4 +79,4 @@ function runReaderThread ({ file, busyTimeoutMs, nice }) {
   })
 }
 
-if (!isMainThread && workerData?.[READER_THREAD_DATA]) runReaderThread(workerData[READER_THREAD_DATA])
+if (!isMainThread && workerData?.[READER_THREAD.dataKey]) runReaderThread(workerData[READER_THREAD.dataKey])

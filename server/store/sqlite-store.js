@@ -1,8 +1,8 @@
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, DROP_COLUMNS_WITH_REVEALED_SEED, NEXT_NONCE_SQL, EXPORT_PAGE_DROPS, dropsInPages } from './records.js'
 import { openSqliteDatabase } from './sqlite-database.js'
-import { prepareWrites, immediateTransaction, WRITER_THREAD_DATA } from './sqlite-writer-thread.js'
-import { prepareReads, READER_THREAD_DATA } from './sqlite-reader-thread.js'
+import { prepareWrites, immediateTransaction, WRITER_THREAD } from './sqlite-writer-thread.js'
+import { prepareReads, READER_THREAD } from './sqlite-reader-thread.js'
 import { SqliteThreadClient } from './sqlite-thread-client.js'
 import { gameError } from '../errors.js'
 import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
@@ -36,12 +36,8 @@ export class SqliteStore {
     this.db = openSqliteDatabase(file, { busyTimeoutMs })
     if (this.reserve) checkpointLeftoverWal(this.db)
     this._statements = new Map()
-    this._writer = file === ':memory:'
-      ? null
-      : new SqliteThreadClient({ entry: new URL('./sqlite-writer-thread.js', import.meta.url), dataKey: WRITER_THREAD_DATA, data: { file, busyTimeoutMs, nice: WRITER_THREAD_NICE }, name: 'writer' })
-    this._reader = file === ':memory:'
-      ? null
-      : new SqliteThreadClient({ entry: new URL('./sqlite-reader-thread.js', import.meta.url), dataKey: READER_THREAD_DATA, data: { file, busyTimeoutMs, nice: READER_THREAD_NICE }, name: 'reader' })
+    this._writer = file === ':memory:' ? null : new SqliteThreadClient(WRITER_THREAD, { file, busyTimeoutMs, nice: WRITER_THREAD_NICE })
+    this._reader = file === ':memory:' ? null : new SqliteThreadClient(READER_THREAD, { file, busyTimeoutMs, nice: READER_THREAD_NICE })
     // The writer's commits never checkpoint; this thread does, beside them (sqlite-checkpoint-thread.js).
     this.checkpointer = file === ':memory:'
       ? null

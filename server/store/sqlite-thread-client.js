@@ -15,13 +15,12 @@ import { Worker } from 'node:worker_threads'
  */
 export class SqliteThreadClient {
   /**
-   * @param {object} options
-   * @param {URL} options.entry the thread's module
-   * @param {string} options.dataKey the key of its workerData that tells the module it was started as that thread
-   * @param {object} options.data what the thread opens its connection with
-   * @param {string} options.name for errors ("writer", "reader")
+   * @param {{ entry: URL, dataKey: string, name: string }} thread the thread's module (WRITER_THREAD,
+   *   READER_THREAD), the key of its workerData that tells the module it was started as that
+   *   thread, and its name for errors
+   * @param {object} data what the thread opens its connection with
    */
-  constructor ({ entry, dataKey, data, name }) {
+  constructor ({ entry, dataKey, name }, data) {
     this.entry = entry
     this.dataKey = dataKey
     this.data = data

@@ -168,8 +168,11 @@ export function immediateTransaction (db, work) {
 /** The names of the writes prepareWrites() returns (what the writer thread accepts). */
 export const WRITES = Object.freeze(['commitBatch', 'createPlayer', 'rotateSeed', 'checkpoint'])
 
-/** The key of the thread's workerData (SqliteStore sets it): this file was started as the writer thread. */
-export const WRITER_THREAD_DATA = 'plinkoSqliteWriter'
+/**
+ * This file as a thread (SqliteThreadClient): its module, and the key of its
+ * workerData that tells it it was started as the writer thread.
+ */
+export const WRITER_THREAD = Object.freeze({ entry: new URL(import.meta.url), dataKey: 'plinkoSqliteWriter', name: 'writer' })
 
 /**
  * Writes the thread puts in one transaction at most: a burst of sign-ups
@@ -264,4 +267,4 @@ export function transactionGroups (messages) {
   return groups
 }
 
-if (!isMainThread && workerData?.[WRITER_THREAD_DATA]) runWriterThread(workerData[WRITER_THREAD_DATA])
+if (!isMainThread && workerData?.[WRITER_THREAD.dataKey]) runWriterThread(workerData[WRITER_THREAD.dataKey])
