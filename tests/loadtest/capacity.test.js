@@ -2,7 +2,7 @@ import { describe, it, expect } from 'vitest'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { stepFigures, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER, CAPACITY_POSTGRES_SECTION } from '../../loadtest/lean/capacity.js'
+import { stepFigures, stepTallies, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER, CAPACITY_POSTGRES_SECTION } from '../../loadtest/lean/capacity.js'
 import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
@@ -60,6 +60,29 @@ describe('capacity steps', () => {
     expect(markdown).toMatch(/\| 2,500 \| seeds \|.*fails: another player's drop/)
   })
 
+  it('with --repeat, holds a step only when every run of it did, and says how many did', () => {
+    const seeds = (players, run, sightingP99) => ({ ...stepFigures({ ...ours({ delivery: 'seeds', sightingP99 }), players }, null), run })
+    const steps = [
+      { ...stepFigures(ours(), null), run: 1 }, seeds(2000, 1, 250),
+      { ...stepFigures(ours({ tickP99: 0.009 }), null), run: 2 }, seeds(2000, 2, 260),
+      seeds(3000, 1, 280), seeds(3000, 2, 320)
+    ]
+    expect(stepTallies(steps)).toEqual([
+      { delivery: 'snapshots', players: 2000, runs: 2, held: 1 },
+      { delivery: 'seeds', players: 2000, runs: 2, held: 2 },
+      { delivery: 'seeds', players: 3000, runs: 2, held: 1 }
+    ])
+    const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, date: new Date('2026-12-05T15:00:00Z') })
+    expect(markdown).toContain('**Most players on one server process with every criterion met in every run of the step: snapshots none of the steps, seeds 2,000**')
+    expect(markdown).toContain('Runs that held, per step: snapshots 2,000 1 of 2; seeds 2,000 2 of 2, 3,000 1 of 2.')
+    expect(markdown).toMatch(/\| 3,000 \(run 2\) \| seeds \|.*fails: another player's drop/)
+    // One run a step: the table as before, no run numbers.
+    const single = capacityMarkdown([seeds(2000, 1, 250)], { rooms: 100, durationS: 20, pinned: true })
+    expect(single).toContain('criterion met: seeds 2,000**')
+    expect(single).not.toContain('(run 1)')
+    expect(single).not.toContain('Runs that held')
+  })
+
   it('writes the table between the markers, replacing the last one, or appends a section', () => {
     const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-capacity-')), 'RESULTS.md')
     fs.writeFileSync(file, `# Results\n\nbefore\n\n${BEGIN_MARKER}\nold table\n${END_MARKER}\n\nafter\n`)
@@ -87,6 +110,9 @@ describe('capacity steps', () => {
     expect(parseCapacityArgs([]).ledger).toBe('sqlite')
     expect(parseCapacityArgs(['--ledger', 'postgres']).ledger).toBe('postgres')
     expect(() => parseCapacityArgs(['--ledger', 'redis'])).toThrow(/--ledger must be one of sqlite, postgres, got redis/)
+    expect(parseCapacityArgs([]).repeat).toBe(1)
+    expect(parseCapacityArgs(['--repeat', '3']).repeat).toBe(3)
+    expect(() => parseCapacityArgs(['--repeat', '0'])).toThrow(/positive integer/)
   })
 
   it('says which ledger the table was measured with, and keeps a PostgreSQL table beside the SQLite one', () => {
