@@ -255,12 +255,11 @@ async function main () {
   // Started after pinning: its processes inherit the generator's CPU.
   const postgres = options.ledger === 'postgres' ? await startPostgres({ durable: true }) : null
   const steps = []
-  // Each mode steps on until its first failing step; the same generator and load for both.
+  // Each mode steps on until a step none of whose runs held; the same generator and load for both.
   const stepping = new Set(options.deliveries)
   for (const players of options.steps) {
     if (stepping.size === 0) break
     const floor = options.floorSeconds > 0 ? await measureFloor({ clients: players, seconds: options.floorSeconds, pin: pinned }) : null
-    const held = new Map([...stepping].map((delivery) => [delivery, 0]))
     // Run by run, the modes in turn: a slow phase of the machine falls on both alike.
     for (let run = 1; run <= options.repeat; run++) {
       for (const delivery of options.deliveries) {
@@ -269,13 +268,14 @@ async function main () {
         const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true, delivery, env })
         const step = { ...stepFigures(ours, floor), run }
         steps.push(step)
-        if (step.holds) held.set(delivery, held.get(delivery) + 1)
         console.log(`${players} players, ${delivery}${options.repeat > 1 ? `, run ${run} of ${options.repeat}` : ''}: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerPlayerSecond, 0)} µs per player-second, ${f(step.serverUsPerDrop, 0)} µs per drop, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; ack p99 ${f(step.ackP99Ms, 0)} ms${delivery === 'seeds' ? `; seen by the room p99 ${f(step.sightingP99Ms, 0)} ms` : ''}; ${f(step.framesPerSecondPerPlayer, 2)} frames/s and ${f(step.bytesPerSecondPerPlayer / 1000, 2)} KB/s per player; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
         if (!ours.summary.passed) console.log(formatLeanSummary(ours.summary))
       }
     }
     // A mode steps on while any run of its step held: the table then shows where it starts to fail.
-    for (const [delivery, count] of held) if (count === 0 && !options.all) stepping.delete(delivery)
+    if (!options.all) {
+      for (const tally of stepTallies(steps)) if (tally.players === players && tally.held === 0) stepping.delete(tally.delivery)
+    }
   }
   await postgres?.stop()
   const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger })
