@@ -50,7 +50,7 @@ export class Arena {
         if (this.rooms.get(room.id) !== room) ownership.disposed(room.id)
       }
     })
-    this.drops = new DropLifecycle({ config, store, accounts: this.accounts, sequences, feed, metrics, log })
+    this.drops = new DropLifecycle({ config, store, accounts: this.accounts, sequences, feed, metrics, log, onRoomsCommitted: (rooms) => this._roomsCommitted(rooms) })
     /** The tick's group commit; seed changes and lease releases queue behind the drops in it. */
     this.ledger = this.drops.ledger
     /** Pings each connection every WS_HEARTBEAT_MS (in ticks), a few a tick, and drops those that did not answer the last ping. */
@@ -132,6 +132,17 @@ export class Arena {
     this.rooms.disposeIdle()
     this.metrics.ballsInFlight.set(inFlight)
     this.heartbeats.tick(this.scheduler.ticks)
+  }
+
+  /** A batch with drops of these rooms is done (between two ticks): their feeds may send what waited for it. */
+  _roomsCommitted (rooms) {
+    for (const room of rooms) {
+      try {
+        room.batchCommitted(this._tally)
+      } catch (error) {
+        this.log.error({ err: error, room: room.id }, 'room delivery failed')
+      }
+    }
   }
 
   /** The tick's frames, counted once (not per socket). @param {import('./realtime/deliveries.js').DeliveryTally} tally */

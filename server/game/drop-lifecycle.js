@@ -40,9 +40,12 @@ export class DropLifecycle {
    * @param {import('../coordination/account-feed.js').AccountFeed} options.feed tells other processes of committed balances
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {import('pino').Logger} options.log
+   * @param {(rooms: Set<import('../rooms/room.js').Room>) => void} [options.onRoomsCommitted] told after each
+   *   batch is applied (or refused) the rooms whose drops were in it: a frame held for them may go now
    */
-  constructor ({ config, store, accounts, sequences, feed, metrics, log }) {
+  constructor ({ config, store, accounts, sequences, feed, metrics, log, onRoomsCommitted = () => {} }) {
     this.config = config
+    this.onRoomsCommitted = onRoomsCommitted
     this.accounts = accounts
     this.sequences = sequences
     this.feed = feed
@@ -181,8 +184,11 @@ export class DropLifecycle {
     let announced = 0
     let bets = 0
     let payouts = 0
+    /** rooms whose drops were in this batch, announced or refused */
+    const rooms = new Set()
     for (const drop of drops) {
       const account = drop.account
+      rooms.add(drop.room)
       const refused = outcome.rejected.get(drop.id)
       if (refused) {
         // A seed rotated by another process: the player hears of it once this one has the new seed, so dropping again works.
@@ -218,6 +224,7 @@ export class DropLifecycle {
       touched?.add(drop.room)
     }
     if (touched) for (const room of touched) room.flushEvents()
+    if (rooms.size > 0) this.onRoomsCommitted(rooms)
     if (announced > 0) {
       this.metrics.drops.inc(announced)
       this.metrics.betTotal.inc(bets)
@@ -232,6 +239,7 @@ export class DropLifecycle {
   _failed ({ drops, settlements }, error) {
     this.log.error({ err: error, drops: drops.length, settlements: settlements.length }, 'ledger commit failed')
     for (let i = drops.length - 1; i >= 0; i--) this._refuse(drops[i], 'E_INTERNAL', 'the drop could not be recorded; nothing was debited')
+    if (drops.length > 0) this.onRoomsCommitted(new Set(drops.map((drop) => drop.room)))
     for (const settlement of settlements) {
       // Still in flight in the ledger (a stop now leaves it to start-up recovery): tried again after a back-off.
       const delay = Math.min(SETTLE_RETRY_MAX_MS, SETTLE_RETRY_FIRST_MS * 2 ** Math.min(settlement.attempts, 20))

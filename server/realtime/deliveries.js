@@ -23,9 +23,12 @@ import { seedsDelivery } from './delivery-seeds.js'
  * @property {(client: import('./connection.js').Connection) => void} leave a socket leaves: it is owed nothing more here
  * @property {() => void} beforeJoin a socket is about to get `joined` (its `balls` cover what was announced so far)
  * @property {() => void} flushNow SPECTATOR_EVENTS=immediate: a batch just committed
+ * @property {(tally: DeliveryTally) => void} batchCommitted a batch with drops of this room was committed or
+ *   refused, between two ticks: what waited for it may go now
  * @property {(tally: DeliveryTally) => void} afterTick the room stepped: send what is due
  *
- * @typedef {object} DeliveryTally frames written this tick, counted once per room (one metrics update per tick)
+ * @typedef {object} DeliveryTally frames written since the last tick began (by the tick, then by commits
+ *   done before the next one), counted once per room (one metrics update per tick)
  * @property {number} snapshotFrames @property {number} snapshotBytes
  * @property {number} eventFrames @property {number} eventBytes
  */

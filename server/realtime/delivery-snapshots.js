@@ -46,6 +46,9 @@ class SnapshotFeed {
 
   flushNow () { this._sendQueuedEvents() }
 
+  /** Nothing waits for a commit here: a snapshot goes on its tick with what was announced by then. */
+  batchCommitted () {}
+
   /** @param {import('./deliveries.js').DeliveryTally} tally */
   afterTick (tally) {
     const room = this.room

@@ -90,6 +90,15 @@ export class Room {
     for (const feed of this.feeds.values()) feed.flushNow()
   }
 
+  /**
+   * A batch with drops of this room was committed or refused (between two
+   * ticks): each feed may send what waited for it.
+   * @param {import('../realtime/deliveries.js').DeliveryTally} tally
+   */
+  batchCommitted (tally) {
+    for (const feed of this.feeds.values()) feed.batchCommitted(tally)
+  }
+
   /** After the tick's step and commit hand-over: each feed sends what is due. @param {import('../realtime/deliveries.js').DeliveryTally} tally */
   deliver (tally) {
     for (const feed of this.feeds.values()) feed.afterTick(tally)

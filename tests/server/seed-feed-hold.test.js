@@ -3,13 +3,16 @@ import { createBoard } from '../../engine/index.js'
 import { Room } from '../../server/rooms/room.js'
 import { createDrop } from '../../server/game/drop.js'
 import { seedsDelivery, RELEASED_FRAMES_PER_TICK } from '../../server/realtime/delivery-seeds.js'
+import { DropLifecycle } from '../../server/game/drop-lifecycle.js'
+import { betCost } from '../../server/game/money.js'
+import { createMetrics } from '../../server/metrics.js'
 import { decodeDropEvents } from '../../protocol/drop-events-codec.js'
 
 /**
  * The seeds feed's frame waits for a commit in progress: a frame due while
  * a drop released before it is still being committed goes out as soon as
- * that drop is announced (at most half a period late), and the period's
- * grid stays where it was. A real Room and SeedFeed; the sockets are
+ * that drop's batch is committed (between two ticks, at most half a period
+ * late), and the period's grid stays where it was. A real Room and SeedFeed; the sockets are
  * stand-ins that keep the frames they are sent, and the group commit is
  * played by hand (announce = what DropLifecycle does once it is durable).
  */
@@ -30,6 +33,8 @@ function setUp () {
   return {
     room,
     watcher,
+    dropper,
+    tally,
     busyTicks,
     /** Accepts a drop of the dropper's at the room's current tick (its commit pending). */
     release () {
@@ -68,7 +73,7 @@ function setUp () {
 
 function standInSocket (playerId) {
   return {
-    account: { playerId, seed: { id: `seed-${playerId}`, hash: 'h' }, clientSeed: 'c' },
+    account: { playerId, seed: { id: `seed-${playerId}`, hash: 'h' }, clientSeed: 'c', connections: new Set(), reserved: 0, commits: 0, balance: 0 },
     frames: [],
     takeDeferred: () => null,
     sendEventFrame (message) {
@@ -102,6 +107,57 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     stepTo(30)
     expect(watcher.frames.map((f) => f.tick)).toEqual([18, 30])
     expect(ids(watcher.frames[1])).toEqual([later.id])
+  })
+
+  it('sends a held frame as soon as its batch is committed, between two ticks, with the tick it was due on', () => {
+    const { room, watcher, tally, release, announce, stepTo } = setUp()
+    stepTo(10)
+    const drop = release()
+    stepTo(15)
+    expect(watcher.frames).toEqual([])
+    announce(drop)
+    room.batchCommitted(tally) // what the arena does once the batch is applied
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15])
+    expect(ids(watcher.frames[0])).toEqual([drop.id])
+    expect(tally.eventFrames).toBe(1)
+    // Nothing more at the next tick; the next frame on the grid.
+    stepTo(29)
+    expect(watcher.frames).toHaveLength(1)
+    const later = release()
+    announce(later)
+    room.batchCommitted(tally) // nothing held: nothing sent off the grid
+    expect(watcher.frames).toHaveLength(1)
+    stepTo(30)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15, 30])
+  })
+
+  it('keeps a frame held when a committed batch leaves a drop released before its tick still being committed', () => {
+    const { room, watcher, tally, release, announce, stepTo } = setUp()
+    stepTo(11)
+    const first = release()
+    stepTo(12)
+    const second = release()
+    stepTo(15)
+    announce(first)
+    room.batchCommitted(tally)
+    expect(watcher.frames).toEqual([])
+    announce(second)
+    room.batchCommitted(tally)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15])
+    expect(ids(watcher.frames[0])).toEqual([first.id, second.id])
+  })
+
+  it('leaves a frame whose batch is committed to the next tick while RELEASED_FRAMES_PER_TICK frames went since the last began', () => {
+    const { room, watcher, tally, release, announce, stepTo } = setUp()
+    stepTo(10)
+    const drop = release()
+    stepTo(15)
+    announce(drop)
+    tally.eventFrames = RELEASED_FRAMES_PER_TICK // other rooms released theirs first
+    room.batchCommitted(tally)
+    expect(watcher.frames).toEqual([])
+    stepTo(16)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([16])
   })
 
   it('sends a due frame at once when every drop released before it is announced', () => {
@@ -202,5 +258,78 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     release()
     expect(room.awaitsCommitBefore(room.tick)).toBe(false) // released at this tick, not before it
     expect(room.awaitsCommitBefore(room.tick + 1)).toBe(true)
+  })
+})
+
+describe('DropLifecycle: the rooms of a batch hear of it once it is applied or refused', () => {
+  /** A store whose commits the test settles one at a time. */
+  function manualStore () {
+    const pending = []
+    return { pending, commitBatch: (batch) => new Promise((resolve, reject) => pending.push({ batch, resolve, reject })) }
+  }
+
+  function lifecycleFor (room, store) {
+    const told = []
+    const tally = { eventFrames: 0, eventBytes: 0, snapshotFrames: 0, snapshotBytes: 0 }
+    const lifecycle = new DropLifecycle({
+      config: { spectatorEvents: 'snapshot' },
+      store,
+      accounts: { release () {} },
+      sequences: {},
+      feed: { balancesCommitted () {} },
+      metrics: createMetrics({ defaultMetrics: false }),
+      log: { error () {}, warn () {} },
+      // As the arena wires it (Arena._roomsCommitted), noting what it was told.
+      onRoomsCommitted: (rooms) => {
+        told.push([...rooms].map((r) => r.id))
+        for (const r of rooms) r.batchCommitted(tally)
+      }
+    })
+    return { lifecycle, told }
+  }
+
+  const settle = () => new Promise((resolve) => setImmediate(resolve))
+
+  it('sends the frame held for a drop when its batch commits, and its room is told once', async () => {
+    const { room, watcher, dropper, release, stepTo } = setUp()
+    const store = manualStore()
+    const { lifecycle, told } = lifecycleFor(room, store)
+    stepTo(10)
+    const drop = release()
+    dropper.account.reserved += betCost(drop.bet)
+    lifecycle.ledger.addDrop(drop)
+    stepTo(15)
+    lifecycle.ledger.flush()
+    await settle()
+    expect(watcher.frames).toEqual([])
+    store.pending[0].resolve({ rejected: new Map(), settled: new Set(), balances: new Map([[dropper.account.playerId, 1_000_000 - betCost(drop.bet)]]) })
+    await settle()
+    expect(told).toEqual([[room.id]])
+    expect(drop.announced).toBe(true)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15])
+    expect(ids(watcher.frames[0])).toEqual([drop.id])
+  })
+
+  it('sends the frame without a drop whose batch failed', async () => {
+    const { room, watcher, dropper, release, announce, stepTo } = setUp()
+    const store = manualStore()
+    const { lifecycle, told } = lifecycleFor(room, store)
+    stepTo(8)
+    const kept = release()
+    announce(kept)
+    stepTo(10)
+    const failed = release()
+    dropper.account.reserved += betCost(failed.bet)
+    lifecycle.ledger.addDrop(failed)
+    stepTo(15)
+    lifecycle.ledger.flush()
+    await settle()
+    expect(watcher.frames).toEqual([])
+    store.pending[0].reject(new Error('disk full'))
+    await settle()
+    expect(told).toEqual([[room.id]])
+    expect(failed.void).toBe(true)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([15])
+    expect(ids(watcher.frames[0])).toEqual([kept.id])
   })
 })
