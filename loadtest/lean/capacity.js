@@ -11,8 +11,11 @@
  * in a throwaway PostgreSQL (its own flush on every commit) on CPU 1 beside
  * the generator, a fresh database per step, as a server beside its database
  * host runs: the server's figures then leave out the database's own work
- * (the SQLite writer thread is the server's). A run holds when every criterion
- * does (CRITERIA below). --repeat N measures each step N times, the modes
+ * (the SQLite writer thread is the server's). --steer-loopback runs the
+ * loopback's receive processing on CPU 1 (driver/loopback-steering.js; Linux,
+ * root): the generator's TCP receive of the server's frames then leaves the
+ * server's core, as the players' machines would pay it. A run holds when
+ * every criterion does (CRITERIA below). --repeat N measures each step N times, the modes
  * taking turns run by run (this VM's speed drifts by a third within an hour,
  * so one run of a step at the edge is a coin's toss): a step holds when all
  * its runs do, and the table says how many did. A mode stops stepping after
@@ -32,6 +35,7 @@ import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 import { formatLeanSummary } from './lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
 import { startPostgres } from '../../tools/postgres-process.js'
+import { steerLoopbackReceive } from '../driver/loopback-steering.js'
 
 const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
 export const BEGIN_MARKER = '<!-- capacity:begin (written by npm run loadtest:capacity) -->'
@@ -59,6 +63,9 @@ export const USAGE = `usage: npm run loadtest:capacity -- [options]
   --delivery LIST      modes to measure, side by side: snapshots,seeds (default both)
   --ledger STORE       sqlite (default: a file beside the server, its writer thread on the server's core)
                        or postgres (a throwaway PostgreSQL on the generator's core)
+  --steer-loopback     the loopback's receive processing (RPS) on the generator's CPU 1, both directions:
+                       the generator's TCP receive leaves the server's core, as on a real network
+                       (Linux and root; restored after the run); the table goes in a section of its own
   --repeat N           measure each step N times, the modes interleaved run by run (default 1);
                        a step holds when every one of its runs does, and the table says how many did
   --all                run every step, not only up to the first that fails
@@ -82,6 +89,7 @@ const OPTIONS = {
   delivery: { type: 'string' },
   ledger: { type: 'string' },
   repeat: { type: 'string' },
+  'steer-loopback': { type: 'boolean', default: false },
   all: { type: 'boolean', default: false }
 }
 
@@ -104,6 +112,7 @@ export function parseCapacityArgs (argv) {
     deliveries: [...new Set((values.delivery ?? DELIVERY_MODES.join(',')).split(',').map((raw) => deliveryMode(raw.trim(), 'delivery')))],
     ledger: capacityLedger(values.ledger ?? 'sqlite'),
     repeat: values.repeat === undefined ? 1 : positiveInteger(values.repeat, 'repeat'),
+    steerLoopback: values['steer-loopback'],
     all: values.all,
     writeResults: !values['no-results']
   }
@@ -200,7 +209,7 @@ export function stepTallies (steps) {
 }
 
 /** The markdown table of the steps, and the verdict. @param {(ReturnType<typeof stepFigures> & { run?: number })[]} steps @param {object} options */
-export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 'sqlite', date = new Date() }) {
+export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 'sqlite', steered = false, date = new Date() }) {
   const modes = [...new Set(steps.map((step) => step.delivery ?? 'snapshots'))]
   const tallies = stepTallies(steps)
   const repeated = tallies.some((tally) => tally.runs > 1)
@@ -213,7 +222,7 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 's
   const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
   const rows = steps.map((step) => `| ${playersCell(step)} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
   return [
-    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}.`,
+    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}${steered ? ', the loopback\'s receive processing steered to CPU 1 (--steer-loopback: the generator\'s TCP receive off the server\'s core, and the server\'s own receive of the players\' messages with it)' : ''}.`,
     '',
     `**Most players on one server process with every criterion met${repeated ? ' in every run of the step' : ''}: ${modes.map((mode) => `${mode} ${bestOf(mode)}`).join(', ')}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).${repeated ? ` Runs that held, per step: ${runsHeld}.` : ''}`,
     '',
@@ -231,6 +240,19 @@ export const CAPACITY_POSTGRES_SECTION = Object.freeze({
   end: '<!-- capacity-postgres:end -->',
   heading: 'Capacity with the ledger in PostgreSQL (npm run loadtest:capacity -- --ledger postgres)'
 })
+
+/** Where a --steer-loopback run's table goes (SQLite ledger): beside the default one, not over it. */
+export const CAPACITY_STEERED_SECTION = Object.freeze({
+  begin: '<!-- capacity-steered:begin (written by npm run loadtest:capacity -- --steer-loopback) -->',
+  end: '<!-- capacity-steered:end -->',
+  heading: 'Capacity with the loopback\'s receive steered off the server\'s core (npm run loadtest:capacity -- --steer-loopback)'
+})
+
+/** The section a run's table goes in. @param {{ ledger: string, steerLoopback?: boolean }} options */
+export function capacitySection ({ ledger, steerLoopback = false }) {
+  if (ledger === 'postgres') return CAPACITY_POSTGRES_SECTION
+  return steerLoopback ? CAPACITY_STEERED_SECTION : CAPACITY_SECTION
+}
 
 /**
  * Replaces the text between a section's markers in `file` (or appends the
@@ -251,7 +273,23 @@ export function writeBetweenMarkers (file, body, { begin: beginMarker, end: endM
 async function main () {
   const options = optionsOrExit(parseCapacityArgs, process.argv.slice(2), USAGE)
   const pinned = canPin() && pinSelf('1')
-  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; delivery ${options.deliveries.join(' and ')}; ledger ${options.ledger}; ${pinned ? `server on CPU 0, generator${options.ledger === 'postgres' ? ' and PostgreSQL' : ''} on CPU 1` : 'NOT pinned (no taskset or one CPU)'}`)
+  console.log(`capacity: steps ${options.steps.join(', ')}; ${options.rooms} rooms; delivery ${options.deliveries.join(' and ')}; ledger ${options.ledger}; ${pinned ? `server on CPU 0, generator${options.ledger === 'postgres' ? ' and PostgreSQL' : ''} on CPU 1` : 'NOT pinned (no taskset or one CPU)'}${options.steerLoopback ? '; loopback receive on CPU 1' : ''}`)
+  if (options.steerLoopback && !pinned) {
+    console.error('--steer-loopback needs the server and the generator on CPUs of their own (taskset and two CPUs)')
+    process.exit(2)
+  }
+  let restoreLoopback = null
+  if (options.steerLoopback) {
+    try {
+      restoreLoopback = steerLoopbackReceive(1)
+    } catch (error) {
+      console.error(error.message)
+      process.exit(1)
+    }
+    // Put back on any way out: the steering outlives this process otherwise.
+    process.once('exit', restoreLoopback)
+    for (const signal of ['SIGINT', 'SIGTERM']) process.once(signal, () => process.exit(130))
+  }
   // Started after pinning: its processes inherit the generator's CPU.
   const postgres = options.ledger === 'postgres' ? await startPostgres({ durable: true }) : null
   const steps = []
@@ -278,10 +316,11 @@ async function main () {
     }
   }
   await postgres?.stop()
-  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger })
+  restoreLoopback?.()
+  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger, steered: options.steerLoopback })
   console.log(`\n${markdown}`)
   if (options.writeResults) {
-    writeBetweenMarkers(RESULTS, markdown, options.ledger === 'postgres' ? CAPACITY_POSTGRES_SECTION : CAPACITY_SECTION)
+    writeBetweenMarkers(RESULTS, markdown, capacitySection(options))
     console.log(`\nwritten to ${path.relative(process.cwd(), RESULTS)}`)
   }
 }

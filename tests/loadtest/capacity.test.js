@@ -2,7 +2,7 @@ import { describe, it, expect } from 'vitest'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { stepFigures, stepTallies, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, BEGIN_MARKER, END_MARKER, CAPACITY_POSTGRES_SECTION } from '../../loadtest/lean/capacity.js'
+import { stepFigures, stepTallies, capacityMarkdown, writeBetweenMarkers, parseCapacityArgs, capacitySection, BEGIN_MARKER, END_MARKER, CAPACITY_SECTION, CAPACITY_POSTGRES_SECTION, CAPACITY_STEERED_SECTION } from '../../loadtest/lean/capacity.js'
 import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
@@ -113,6 +113,18 @@ describe('capacity steps', () => {
     expect(parseCapacityArgs([]).repeat).toBe(1)
     expect(parseCapacityArgs(['--repeat', '3']).repeat).toBe(3)
     expect(() => parseCapacityArgs(['--repeat', '0'])).toThrow(/positive integer/)
+    expect(parseCapacityArgs([]).steerLoopback).toBe(false)
+    expect(parseCapacityArgs(['--steer-loopback']).steerLoopback).toBe(true)
+  })
+
+  it('says when the loopback receive was steered off the server core, and keeps that table in a section of its own', () => {
+    const steps = [stepFigures(ours(), null)]
+    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true })).not.toContain('steered')
+    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, steered: true })).toContain("SQLite ledger, the loopback's receive processing steered to CPU 1 (--steer-loopback")
+    expect(capacitySection({ ledger: 'sqlite' })).toBe(CAPACITY_SECTION)
+    expect(capacitySection({ ledger: 'sqlite', steerLoopback: true })).toBe(CAPACITY_STEERED_SECTION)
+    expect(capacitySection({ ledger: 'postgres', steerLoopback: true })).toBe(CAPACITY_POSTGRES_SECTION)
+    expect(new Set([CAPACITY_SECTION.begin, CAPACITY_POSTGRES_SECTION.begin, CAPACITY_STEERED_SECTION.begin]).size).toBe(3)
   })
 
   it('says which ledger the table was measured with, and keeps a PostgreSQL table beside the SQLite one', () => {
