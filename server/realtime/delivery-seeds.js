@@ -34,7 +34,10 @@ export const RELEASED_FRAMES_PER_TICK = 1000
  * most half a period: sent as soon as that commit is done (batchCommitted,
  * between two ticks, not at the next tick), the drop reaches the room then
  * instead of a period later (the commit overlaps the wait for the frame);
- * still one frame a period. Frames released that way wait a tick more while
+ * still one frame a period. It does not wait once a drop it carries has
+ * waited a whole period (accepted just after the last frame): that drop
+ * would then reach the room later than the one being committed will in the
+ * next frame, and it is the tail of the room's sighting. Frames released that way wait a tick more while
  * RELEASED_FRAMES_PER_TICK frames have been written since the last tick
  * began, so the rooms a commit held do not all go at once.
  * Nothing else: a room
@@ -113,16 +116,29 @@ class SeedFeed {
       return
     }
     if (this.heldSince >= 0) {
-      if (tick - this.heldSince < this.maxHold && (room.awaitsCommitBefore(this.heldSince) || framesOf(tally) >= RELEASED_FRAMES_PER_TICK)) return
+      if (tick - this.heldSince < this.maxHold && ((this._mayWait(tick) && room.awaitsCommitBefore(this.heldSince)) || framesOf(tally) >= RELEASED_FRAMES_PER_TICK)) return
       this.heldSince = -1
     } else {
       if ((tick + room.snapshotPhase) % room.eventEvery !== 0) return
-      if (this.maxHold > 0 && room.awaitsCommitBefore(tick)) {
+      if (this.maxHold > 0 && this._mayWait(tick) && room.awaitsCommitBefore(tick)) {
         this.heldSince = tick
         return
       }
     }
     this._send(tally)
+  }
+
+  /**
+   * Whether the frame may still wait for a commit: not once a drop it
+   * carries has waited a whole period (one accepted just after the last
+   * frame), or it would reach the room later than a drop that misses this
+   * frame and goes in the next.
+   * @param {number} tick
+   */
+  _mayWait (tick) {
+    const oldest = tick - this.room.eventEvery
+    for (let i = 0; i < this.pending.length; i++) if (this.pending[i].startTick < oldest) return false
+    return true
   }
 
   /** Sends the room's frame (and the owners' sections) now, if there is anything to send. @param {import('./deliveries.js').DeliveryTally} tally */

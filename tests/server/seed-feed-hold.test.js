@@ -218,7 +218,7 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
 
   it('holds a frame at most half a period: a slower commit comes in the next frame', () => {
     const { watcher, release, announce, stepTo } = setUp()
-    stepTo(3)
+    stepTo(12)
     const announced = release()
     announce(announced)
     const slow = release()
@@ -230,6 +230,42 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     announce(slow)
     stepTo(30)
     expect(watcher.frames.map((f) => f.tick)).toEqual([15 + MAX_HOLD, 30])
+    expect(ids(watcher.frames[1])).toEqual([slow.id])
+  })
+
+  it('stops waiting once a drop it carries has waited a whole period: the slower one comes in the next frame', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(3)
+    const early = release() // accepted just after the frame of tick 0: at tick 15 it has waited 12 ticks
+    announce(early)
+    stepTo(14)
+    const slow = release()
+    stepTo(18)
+    expect(watcher.frames).toEqual([]) // held for `slow` while `early` has waited at most a period (15 ticks)
+    stepTo(19)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([19])
+    expect(ids(watcher.frames[0])).toEqual([early.id])
+    announce(slow)
+    stepTo(30)
+    expect(watcher.frames.map((f) => f.tick)).toEqual([19, 30])
+    expect(ids(watcher.frames[1])).toEqual([slow.id])
+  })
+
+  it('does not hold a due frame at all for a drop that has waited more than a period already', () => {
+    const { watcher, release, announce, stepTo } = setUp()
+    stepTo(14)
+    const missed = release() // its commit outlasted the frame of tick 15's hold: it waits for tick 30
+    stepTo(15)
+    const slow = release()
+    stepTo(29)
+    announce(missed)
+    expect(watcher.frames).toEqual([])
+    stepTo(30)
+    // `missed` (16 ticks old) goes now although `slow`, released before tick 30 too, is still being committed.
+    expect(watcher.frames.map((f) => f.tick)).toEqual([30])
+    expect(ids(watcher.frames[0])).toEqual([missed.id])
+    announce(slow)
+    stepTo(45)
     expect(ids(watcher.frames[1])).toEqual([slow.id])
   })
 
