@@ -35,11 +35,12 @@ export const RELEASED_FRAMES_PER_TICK = 1000
  * between two ticks, not at the next tick), the drop reaches the room then
  * instead of a period later (the commit overlaps the wait for the frame);
  * still one frame a period. It does not wait once a drop it carries has
- * waited a whole period (accepted just after the last frame): that drop
- * would then reach the room later than the one being committed will in the
- * next frame, and it is the tail of the room's sighting. Frames released that way wait a tick more while
- * RELEASED_FRAMES_PER_TICK frames have been written since the last tick
- * began, so the rooms a commit held do not all go at once.
+ * waited more than a period (accepted just after the last frame): that
+ * drop would then reach the room later than the one being committed will
+ * in the next frame, and such drops are the tail of the room's sighting.
+ * Frames released that way wait a tick more while RELEASED_FRAMES_PER_TICK
+ * frames have been written since the last tick began, so the rooms a
+ * commit held do not all go at once.
  * Nothing else: a room
  * where nothing happens sends nothing. Other players' settlements are not
  * sent (the page computes the landing; the facts are fetched on demand).
@@ -130,7 +131,7 @@ class SeedFeed {
 
   /**
    * Whether the frame may still wait for a commit: not once a drop it
-   * carries has waited a whole period (one accepted just after the last
+   * carries has waited more than a period (one accepted just after the last
    * frame), or it would reach the room later than a drop that misses this
    * frame and goes in the next.
    * @param {number} tick
