@@ -233,7 +233,7 @@ describe('seeds feed: a due frame waits for a commit in progress', () => {
     expect(ids(watcher.frames[1])).toEqual([slow.id])
   })
 
-  it('stops waiting once a drop it carries has waited a whole period: the slower one comes in the next frame', () => {
+  it('stops waiting once a drop it carries has waited more than a period: the slower one comes in the next frame', () => {
     const { watcher, release, announce, stepTo } = setUp()
     stepTo(3)
     const early = release() // accepted just after the frame of tick 0: at tick 15 it has waited 12 ticks
