@@ -73,6 +73,34 @@ describe('GroupCommit', () => {
     expect(committed).toEqual([[1], [2, 3, 4]])
   })
 
+  it('stops merging at maxMergedEntries: the ticks a long stall held queue as several transactions, in order', async () => {
+    const store = manualStore()
+    const committed = []
+    const ledger = new GroupCommit({ ...services(), store, maxMergedEntries: 3, onCommitted: (b) => committed.push(b.drops.map((d) => d.id)), onFailed: () => {} })
+    const settlement = (id) => ({ drop: drop(id), bucket: 0, multiplier: 1, payout: 0, ticks: 1, stateHash: 'x', settledAt: 0 })
+    ledger.addDrop(drop(1))
+    ledger.flush() // tick 1: written at once, then stalls
+    for (let tick = 2; tick <= 6; tick++) {
+      ledger.addDrop(drop(tick))
+      if (tick === 3) ledger.addSettlement(settlement(1)) // settlements count towards the cap
+      ledger.flush()
+    }
+    await flushMicrotasks()
+    expect(store.pending).toHaveLength(1)
+    store.pending[0].resolve()
+    await flushMicrotasks()
+    // ticks 2 and 3 hold three entries: sealed at the cap; 4 to 6 go on merging
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id))).toEqual([[1], [2, 3]])
+    expect(store.pending[1].batch.settlements.map((s) => s.id)).toEqual([1])
+    store.pending[1].resolve()
+    await flushMicrotasks()
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id))).toEqual([[1], [2, 3], [4, 5, 6]])
+    store.pending[2].resolve()
+    await ledger.drain()
+    expect(committed).toEqual([[1], [2, 3], [4, 5, 6]])
+    expect(store.maxActive).toBe(1)
+  })
+
   it('drops settlements of drops whose own record failed', async () => {
     const store = manualStore()
     const committed = []
