@@ -133,6 +133,16 @@ export function clientSeedBatch (playerId, clientSeed) {
 // ---- the group commit -------------------------------------------------------
 
 /**
+ * Drops and settlements (entries) past which a batch kept open behind a slow
+ * commit is sealed and queued: about four ticks at the reference load of
+ * 6,000 players (50 drops and 50 landings a tick). Announcing a committed
+ * batch costs about 15 µs of the event loop per drop and its landing, so
+ * this keeps one batch's announcement near 6 ms, within a tick; the 750
+ * drops a stall of the disk once merged into one batch held it 24 ms.
+ */
+export const MAX_MERGED_ENTRIES = 400
+
+/**
  * Group commit: everything one tick changes (drops accepted, balls landed)
  * is written in ONE transaction, and transactions run strictly one after
  * another in the order their ticks happened. Nothing is announced until its
@@ -149,16 +159,6 @@ export function clientSeedBatch (playerId, clientSeed) {
  * room frame they held) is spread over several commits instead of holding
  * the event loop, and so the next ticks, in one go.
  */
-/**
- * Drops and settlements (entries) past which a batch kept open behind a slow
- * commit is sealed and queued: about four ticks at the reference load of
- * 6,000 players (50 drops and 50 landings a tick). Announcing a committed
- * batch costs about 15 µs of the event loop per drop and its landing, so
- * this keeps one batch's announcement near 6 ms, within a tick; a 400 ms
- * stall of the disk merged into one batch took 24 ms or more.
- */
-export const MAX_MERGED_ENTRIES = 400
-
 export class GroupCommit {
   /**
    * @param {object} options
