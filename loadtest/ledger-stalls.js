@@ -13,8 +13,8 @@
  *
  * Writes nothing: each hold is BEGIN IMMEDIATE … ROLLBACK. Stops by itself
  * after --duration (or on SIGINT/SIGTERM, releasing the lock). Exit code 0,
- * 1 when the ledger cannot be opened (`E_LEDGER_STALLS`), 2 for a bad
- * command line.
+ * 1 when the ledger cannot be opened or a stall fails (`E_LEDGER_STALLS`),
+ * 2 for a bad command line.
  */
 import fs from 'node:fs'
 import { DatabaseSync } from 'node:sqlite'
@@ -111,7 +111,14 @@ async function main () {
   let stalls = 0
   while (!stop.signal.aborted && Date.now() + options.holdMs <= end) {
     const started = Date.now()
-    await stallLedger(db, options.holdMs, { signal: stop.signal })
+    try {
+      await stallLedger(db, options.holdMs, { signal: stop.signal })
+    } catch (error) {
+      // The server went away with its file, or held the lock past the busy timeout.
+      console.error(`E_LEDGER_STALLS: stall ${stalls + 1} failed: ${error.message}`)
+      process.exitCode = 1
+      break
+    }
     stalls++
     console.log(`stall ${stalls}: held the write lock ${Date.now() - started} ms (waiting for it included)`)
     await sleep(Math.max(0, Math.min(end, started + options.everyMs) - Date.now()), undefined, { signal: stop.signal }).catch(() => {})

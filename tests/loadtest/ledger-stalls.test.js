@@ -63,6 +63,16 @@ describe('loadtest/ledger-stalls.js', () => {
     expect(run.stderr).toMatch(/E_LEDGER_STALLS: no ledger at/)
   })
 
+  it('ends with E_LEDGER_STALLS (exit code 1) when the file is not an SQLite ledger', () => {
+    const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-stalls-'))
+    dirs.push(dir)
+    const file = path.join(dir, 'notes.txt')
+    fs.writeFileSync(file, 'not a database, and long enough to have a header\n'.repeat(4))
+    const run = spawnSync(process.execPath, [SCRIPT, '--ledger', file, '--hold', '20ms', '--every', '50ms', '--duration', '100ms'], { encoding: 'utf8', timeout: 30_000 })
+    expect(run.status).toBe(1)
+    expect(run.stderr).toMatch(/E_LEDGER_STALLS: .*not a database/)
+  })
+
   it('reads its options, with defaults, and refuses bad ones with the usage (exit code 2)', () => {
     expect(parseLedgerStallsArgs(['--ledger', 'x.sqlite'])).toEqual({ ledger: 'x.sqlite', holdMs: 400, everyMs: 4000, durationMs: 60000 })
     expect(parseLedgerStallsArgs(['--ledger', 'x', '--hold', '1s', '--every', '3s', '--duration', '10s'])).toMatchObject({ holdMs: 1000, everyMs: 3000, durationMs: 10000 })
