@@ -94,3 +94,11 @@ export function fractionAtMost (buckets, bound) {
   for (const bucket of buckets) if (bucket.le <= bound) count = bucket.count
   return count / total
 }
+
+/** Observations above `bound` (exact when `bound` is a bucket bound): what a histogram counts beyond a goal. */
+export function countAbove (buckets, bound) {
+  if (buckets.length === 0) return null
+  let atMost = 0
+  for (const bucket of buckets) if (bucket.le <= bound) atMost = bucket.count
+  return buckets[buckets.length - 1].count - atMost
+}

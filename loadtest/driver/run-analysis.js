@@ -1,7 +1,9 @@
-import { subtractBuckets, bucketQuantile, fractionAtMost } from './prometheus-text.js'
+import { subtractBuckets, bucketQuantile, fractionAtMost, countAbove } from './prometheus-text.js'
 
 /** The tick budget the issue sets: p99 of a 60 Hz tick under 8 ms. */
 export const TICK_P99_GOAL_S = 0.008
+/** A group commit slower than this (s; the commit histogram's last finite bound, server/metrics.js) is counted as a stall. */
+export const SLOW_COMMIT_S = 0.05
 /** One 60 Hz period: a tick that starts later than this has run into the next one. */
 export const TICK_PERIOD_S = 1 / 60
 /**
@@ -76,7 +78,8 @@ export function analyzeServerSamples (samples, { expectedClients, baselineIndex 
       dropped: b.droppedTicks - a.droppedTicks
     },
     tickLag: { p50: bucketQuantile(lag, 0.5), p99: bucketQuantile(lag, 0.99), max: maxBucket(lag) },
-    commit: { p50: bucketQuantile(commits, 0.5), p99: bucketQuantile(commits, 0.99), perSecond: (commits.at(-1)?.count ?? 0) / seconds },
+    // over50ms: commits beyond the histogram's last finite bound, the stalls of the disk that hold every drop behind them.
+    commit: { p50: bucketQuantile(commits, 0.5), p99: bucketQuantile(commits, 0.99), perSecond: (commits.at(-1)?.count ?? 0) / seconds, over50ms: countAbove(commits, SLOW_COMMIT_S) },
     eventLoop: {
       p99Median: eventLoopDelay(median(inWindow.map((s) => s.eventLoopP99))),
       p99Max: eventLoopDelay(Math.max(...inWindow.map((s) => s.eventLoopP99))),

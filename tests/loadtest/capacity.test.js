@@ -7,7 +7,7 @@ import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
 /** measureOurs()'s shape, with the figures that decide a step. */
-function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null } = {}) {
+function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null, slowCommits = 0 } = {}) {
   return {
     players: 2000,
     delivery,
@@ -15,7 +15,7 @@ function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unset
     serverCpuS: 12,
     serverUsPerFrame: 19,
     othersShare: 0.05,
-    analysis: { tick: { p99: tickP99 }, tickLag: { p99: lagP99 }, memory: { rssPerClient: 60_000 }, serverErrors },
+    analysis: { tick: { p99: tickP99 }, tickLag: { p99: lagP99 }, commit: { over50ms: slowCommits }, memory: { rssPerClient: 60_000 }, serverErrors },
     summary: {
       steady: { ackMs: { p50: 10, p99: ackP99, count: 15000 }, settledMs: { p50: 2500, p99: 4000 }, sightingMs: { p50: sightingP99 && sightingP99 / 2, p99: sightingP99 } },
       ackMs: { p99: ackP99 },
@@ -58,6 +58,19 @@ describe('capacity steps', () => {
     expect(markdown).toContain('**Most players on one server process with every criterion met: snapshots 2,000, seeds 2,000**')
     expect(markdown).toMatch(/\| 2,000 \| seeds \| 80% \|.*\| 130 \/ 260 ms \|/)
     expect(markdown).toMatch(/\| 2,500 \| seeds \|.*fails: another player's drop/)
+  })
+
+  it('counts the commits over 50 ms, so a run failed by a stall of the disk says so', () => {
+    const stalled = stepFigures(ours({ delivery: 'seeds', sightingP99: 420, ackP99: 330, slowCommits: 3 }), null)
+    expect(stalled).toMatchObject({ slowCommits: 3, holds: false })
+    const markdown = capacityMarkdown([stepFigures(ours(), null), stalled], { rooms: 100, durationS: 20, pinned: true })
+    const header = markdown.split('\n').find((line) => line.startsWith('| players'))
+    const column = header.split('|').map((cell) => cell.trim()).indexOf('commits > 50 ms')
+    expect(column).toBeGreaterThan(0)
+    const cells = markdown.split('\n').filter((line) => /^\| 2,000 /.test(line)).map((line) => line.split('|').map((cell) => cell.trim())[column])
+    expect(cells).toEqual(['0', '3'])
+    // A run measured without the server's /metrics has no count, not a zero.
+    expect(stepFigures({ ...ours(), analysis: null }, null).slowCommits).toBeNull()
   })
 
   it('with --repeat, holds a step only when every run of it did, and says how many did', () => {

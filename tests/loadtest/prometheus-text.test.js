@@ -1,5 +1,5 @@
 import { describe, it, expect } from 'vitest'
-import { parsePrometheusText, scalar, byLabel, histogramBuckets, subtractBuckets, bucketQuantile, fractionAtMost } from '../../loadtest/driver/prometheus-text.js'
+import { parsePrometheusText, scalar, byLabel, histogramBuckets, subtractBuckets, bucketQuantile, fractionAtMost, countAbove } from '../../loadtest/driver/prometheus-text.js'
 
 const TEXT = `# HELP plinko_ws_clients Open WebSocket connections
 # TYPE plinko_ws_clients gauge
@@ -31,6 +31,10 @@ describe('Prometheus text from /metrics', () => {
     expect(bucketQuantile(interval, 0.99)).toBeCloseTo(0.001 + 0.007 * (198 - 100) / 99)
     expect(bucketQuantile(interval, 1)).toBe(0.008) // the +Inf bucket reports the highest finite bound
     expect(fractionAtMost(interval, 0.008)).toBeCloseTo(0.995)
+    expect(countAbove(interval, 0.008)).toBe(1) // only in +Inf
+    expect(countAbove(interval, 0.001)).toBe(100)
+    expect(countAbove(interval, 0.0001)).toBe(200) // below every bound: all of them
+    expect(countAbove([], 0.05)).toBeNull()
     expect(bucketQuantile([{ le: 1, count: 0 }], 0.5)).toBeNull()
   })
 })

@@ -14,7 +14,8 @@ function samples () {
       eventLoopP99: 0.011, eventLoopMax: 0.012, tickLagCurrent: 0,
       tickBuckets: [{ le: 0.001, count: ticks * 0.9 }, { le: 0.008, count: ticks }, { le: Infinity, count: ticks }],
       lagBuckets: [{ le: 0.001, count: ticks }, { le: Infinity, count: ticks }],
-      commitBuckets: [{ le: 0.002, count: ticks }, { le: Infinity, count: ticks }],
+      // one commit in a hundred over 50 ms: a stall of the disk
+      commitBuckets: [{ le: 0.002, count: ticks * 0.98 }, { le: 0.05, count: ticks * 0.99 }, { le: Infinity, count: ticks }],
       ticks, droppedTicks: 0, drops: t * 50, settles: t * 50, bytesOut: t * 1e6, messagesOut: t * 5000, snapshotsSkipped: 0, slowClosed: 0,
       errors: {}, serverCpuS: t * 0.5, k6CpuS: t * 0.7, k6Rss: 1e9, machine: { busyS: t * 1.3, totalS: t * 2 }
     })
@@ -32,6 +33,9 @@ describe('run analysis', () => {
     expect(result.clients.mean).toBe(100)
     expect(result.tick.perSecond).toBeCloseTo(60)
     expect(result.tick.within8ms).toBe(1)
+    // 17 s of 60 commits a second, one in a hundred over 50 ms
+    expect(result.commit.perSecond).toBeCloseTo(60)
+    expect(result.commit.over50ms).toBeCloseTo(0.01 * 60 * 17)
     expect(result.tick.p50).toBeLessThanOrEqual(0.001)
     expect(result.traffic.bytesPerClientPerSecond).toBeCloseTo(1e4)
     expect(result.memory.rssPerClient).toBeCloseTo(50e3)
