@@ -90,15 +90,18 @@ export function fractionAtMost (buckets, bound) {
   if (buckets.length === 0) return null
   const total = buckets[buckets.length - 1].count
   if (!(total > 0)) return null
-  let count = 0
-  for (const bucket of buckets) if (bucket.le <= bound) count = bucket.count
-  return count / total
+  return countAtMost(buckets, bound) / total
 }
 
 /** Observations above `bound` (exact when `bound` is a bucket bound): what a histogram counts beyond a goal. */
 export function countAbove (buckets, bound) {
   if (buckets.length === 0) return null
-  let atMost = 0
-  for (const bucket of buckets) if (bucket.le <= bound) atMost = bucket.count
-  return buckets[buckets.length - 1].count - atMost
+  return buckets[buckets.length - 1].count - countAtMost(buckets, bound)
+}
+
+/** Observations ≤ `bound`: the cumulative count of the last bucket whose bound is within it. */
+function countAtMost (buckets, bound) {
+  let count = 0
+  for (const bucket of buckets) if (bucket.le <= bound) count = bucket.count
+  return count
 }
