@@ -98,12 +98,17 @@ export async function stallLedger (db, holdMs, { onLocked, signal } = {}) {
 
 async function main () {
   const options = optionsOrExit(parseLedgerStallsArgs, process.argv.slice(2), USAGE)
+  /** @param {LedgerStallsError} error */
+  const refuse = (error) => {
+    console.error(`${error.code}: ${error.message}`)
+    process.exitCode = 1
+  }
   let db
   try {
     db = openLedgerForStalls(options.ledger)
   } catch (error) {
-    console.error(`${error.code ?? 'error'}: ${error.message}`)
-    process.exit(1)
+    refuse(error)
+    return
   }
   const stop = new AbortController()
   for (const signal of ['SIGINT', 'SIGTERM']) process.once(signal, () => stop.abort())
@@ -115,8 +120,7 @@ async function main () {
       await stallLedger(db, options.holdMs, { signal: stop.signal })
     } catch (error) {
       // The server went away with its file, or held the lock past the busy timeout.
-      console.error(`E_LEDGER_STALLS: stall ${stalls + 1} failed: ${error.message}`)
-      process.exitCode = 1
+      refuse(new LedgerStallsError(`stall ${stalls + 1} failed: ${error.message}`))
       break
     }
     stalls++
