@@ -144,6 +144,8 @@ export function stepFigures (ours, floor) {
     serverUsPerDrop: ours.serverCpuS !== undefined && steadyDrops > 0 ? ours.serverCpuS * 1e6 / steadyDrops : null,
     sightingP50Ms: s.steady.sightingMs?.p50 ?? null,
     sightingP99Ms: s.steady.sightingMs?.p99 ?? null,
+    /** Room ticks from a ball's release to the frame that carried it, p99: the room's part of the sighting (its batching and holds). */
+    sightingTicksP99: s.steady.sightingTicks?.p99 ?? null,
     serverUsPerFrame: ours.serverUsPerFrame,
     floorUsPerFrame: floor?.serverUsPerFrame ?? null,
     ratio: floor ? ours.serverUsPerFrame / floor.serverUsPerFrame : null,
@@ -167,6 +169,7 @@ export function stepFigures (ours, floor) {
     rssPerClient: a?.memory?.rssPerClient ?? null,
     generatorShare: s.cpu.shareOfCore,
     generatorUsPerFrame: s.cpu.usPerFrame,
+    generatorLateP99Ms: s.cpu.loopDelay?.p99Ms ?? null,
     othersShare: ours.othersShare
   }
   step.failed = CRITERIA.filter((criterion) => !criterion.holds(step)).map((criterion) => criterion.name)
@@ -221,8 +224,8 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 's
   }
   const runsHeld = modes.map((mode) => `${mode} ${tallies.filter((tally) => tally.delivery === mode).map((tally) => `${tally.players.toLocaleString('en-US')} ${tally.held} of ${tally.runs}`).join(', ')}`).join('; ')
   const playersCell = (step) => repeated && step.run !== undefined ? `${step.players.toLocaleString('en-US')} (run ${step.run})` : step.players.toLocaleString('en-US')
-  const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | commits > 50 ms | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame | other processes | verdict |'
-  const rows = steps.map((step) => `| ${playersCell(step)} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.slowCommits, 0)} | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
+  const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | commits > 50 ms | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame, loop late p99 | other processes | verdict |'
+  const rows = steps.map((step) => `| ${playersCell(step)} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.slowCommits, 0)} | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)}, ${f(step.generatorLateP99Ms, 0)} ms | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
   return [
     `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}${steered ? ', the loopback\'s receive processing steered to CPU 1 (--steer-loopback: the generator\'s TCP receive off the server\'s core, and the server\'s own receive of the players\' messages with it)' : ''}.`,
     '',
@@ -308,7 +311,7 @@ async function main () {
         const ours = await measureOurs({ players, rooms: options.rooms, durationS: options.durationS, rampS: options.rampS, pin: pinned, workers: options.workers, sample: true, delivery, env })
         const step = { ...stepFigures(ours, floor), run }
         steps.push(step)
-        console.log(`${players} players, ${delivery}${options.repeat > 1 ? `, run ${run} of ${options.repeat}` : ''}: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerPlayerSecond, 0)} µs per player-second, ${f(step.serverUsPerDrop, 0)} µs per drop, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; commits over 50 ms ${f(step.slowCommits, 0)}; ack p99 ${f(step.ackP99Ms, 0)} ms${delivery === 'seeds' ? `; seen by the room p99 ${f(step.sightingP99Ms, 0)} ms` : ''}; ${f(step.framesPerSecondPerPlayer, 2)} frames/s and ${f(step.bytesPerSecondPerPlayer / 1000, 2)} KB/s per player; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame; others ${pct(step.othersShare)}`)
+        console.log(`${players} players, ${delivery}${options.repeat > 1 ? `, run ${run} of ${options.repeat}` : ''}: ${step.holds ? 'holds' : `fails (${step.failed.join(', ')})`}; server ${pct(step.serverShare)} of a core, ${f(step.serverUsPerPlayerSecond, 0)} µs per player-second, ${f(step.serverUsPerDrop, 0)} µs per drop, ${f(step.serverUsPerFrame)} µs/frame (floor ${f(step.floorUsPerFrame)}, ${step.ratio === null ? '–' : f(step.ratio, 2)}×); tick p99 ${f(step.tickP99Ms, 2)} ms, lag p99 ${f(step.lagP99Ms, 2)} ms; commits over 50 ms ${f(step.slowCommits, 0)}; ack p99 ${f(step.ackP99Ms, 0)} ms${delivery === 'seeds' ? `; seen by the room p99 ${f(step.sightingP99Ms, 0)} ms (its frame ${f(step.sightingTicksP99, 0)} ticks after the release, p99)` : ''}; ${f(step.framesPerSecondPerPlayer, 2)} frames/s and ${f(step.bytesPerSecondPerPlayer / 1000, 2)} KB/s per player; generator ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)} µs/frame, its loop late p99 ${f(step.generatorLateP99Ms, 0)} ms; others ${pct(step.othersShare)}`)
         if (!ours.summary.passed) console.log(formatLeanSummary(ours.summary))
       }
     }

@@ -116,7 +116,7 @@ function runWorker (plan, timeoutMs) {
 function failedWorker (plan, code, detail) {
   return {
     players: plan.players.length, joined: 0, redirects: 0, dropsSent: 0, dropsAcked: 0, dropsRefused: 0, dropsSettled: 0, unsettled: 0, balanceMismatches: 0,
-    frames: 0, eventFrames: 0, eventsSeen: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [], steadySightingMs: [] }
+    frames: 0, eventFrames: 0, eventsSeen: 0, textMessages: 0, bytes: 0, errors: { [code]: 1 }, firstErrors: [`${code}: ${detail}`], window: {}, samples: { ackMs: [], settledMs: [], settleOverheadMs: [], steadyAckMs: [], steadySettledMs: [], steadySightingMs: [], steadySightingTicks: [] }
   }
 }
 
@@ -165,7 +165,9 @@ function summarize ({ options, baseUrl, rooms, offered, workerCount, results, wi
       ackMs: latencies(samples('steadyAckMs')),
       settledMs: latencies(samples('steadySettledMs')),
       /** Seeds mode: another player's drop, sent → seen by the other sockets of its room (owner and watcher in the same worker). */
-      sightingMs: latencies(samples('steadySightingMs'))
+      sightingMs: latencies(samples('steadySightingMs')),
+      /** The same sightings: room ticks from the ball's release to the frame that carried it (the room's batching and holds). */
+      sightingTicks: percentiles(samples('steadySightingTicks'))
     },
     window: windowFigures(traffic, windowS, players),
     cpu: cpuFigures(window, windowS, traffic)
@@ -205,7 +207,7 @@ function steadyTraffic (results) {
     text += workerText
     bytes += w.to.bytes - w.from.bytes
     const cpuS = w.from.cpuS !== null && w.to.cpuS !== null ? w.to.cpuS - w.from.cpuS : null
-    perWorker.push({ cpuS, received: workerFrames + workerText, usPerFrame: cpuS !== null && workerFrames + workerText > 0 ? cpuS * 1e6 / (workerFrames + workerText) : null })
+    perWorker.push({ cpuS, received: workerFrames + workerText, usPerFrame: cpuS !== null && workerFrames + workerText > 0 ? cpuS * 1e6 / (workerFrames + workerText) : null, loopDelay: w.loopDelay ?? null })
   }
   return { frames, text, bytes, received: frames + text, perWorker }
 }
@@ -247,8 +249,21 @@ function cpuFigures (window, windowS, { received, perWorker }) {
     shareOfCore: windowS > 0 ? cpuS / windowS : null,
     usPerFrame: received > 0 ? cpuS * 1e6 / received : null,
     userUsPerFrame: received > 0 ? cpu.user / received : null,
-    perWorker
+    perWorker,
+    loopDelay: laggiest(perWorker)
   }
+}
+
+/**
+ * The event-loop delay (ms: p50, p99, max) of the worker whose loop ran
+ * latest at p99, or null without one: what the generator's own lag may
+ * have added to the latencies it measured.
+ * @param {{ loopDelay: { p50Ms: number, p99Ms: number, maxMs: number } | null }[]} perWorker
+ */
+export function laggiest (perWorker) {
+  let worst = null
+  for (const { loopDelay } of perWorker) if (loopDelay && (worst === null || loopDelay.p99Ms > worst.p99Ms)) worst = loopDelay
+  return worst
 }
 
 const round = (value, digits = 1) => value === null || value === undefined ? '–' : Number(value).toFixed(digits)
@@ -267,9 +282,10 @@ export function formatLeanSummary (summary) {
     `  drop → dropped p50 / p99: ${round(s.ackMs.p50)} / ${round(s.ackMs.p99)} ms`,
     `  drop → settled p50 / p99: ${round(s.settledMs.p50, 0)} / ${round(s.settledMs.p99, 0)} ms (minus the fall: ${round(s.settleOverheadMs.p50)} / ${round(s.settleOverheadMs.p99)} ms)`,
     `  drops sent in the steady window (${s.steady.ackMs.count}): drop → dropped p50 / p99 ${round(s.steady.ackMs.p50)} / ${round(s.steady.ackMs.p99)} ms, drop → settled ${round(s.steady.settledMs.p50, 0)} / ${round(s.steady.settledMs.p99, 0)} ms`,
-    ...(s.delivery === 'seeds' ? [`  seeds delivery: ${s.eventFrames} drop-events frames, ${s.eventsSeen} other players' drops seen; sent → seen by the room p50 / p99: ${round(s.steady.sightingMs.p50)} / ${round(s.steady.sightingMs.p99)} ms (${s.steady.sightingMs.count} sightings in the steady window)`] : []),
+    ...(s.delivery === 'seeds' ? [`  seeds delivery: ${s.eventFrames} drop-events frames, ${s.eventsSeen} other players' drops seen; sent → seen by the room p50 / p99: ${round(s.steady.sightingMs.p50)} / ${round(s.steady.sightingMs.p99)} ms (${s.steady.sightingMs.count} sightings in the steady window), carried by a frame p50 / p99 ${round(s.steady.sightingTicks.p50, 0)} / ${round(s.steady.sightingTicks.p99, 0)} ticks after the ball's release`] : []),
     `  per player: ${round(s.window.framesPerSecondPerPlayer, 2)} frames/s, ${round(s.window.bytesPerSecondPerPlayer / 1000, 2)} KB/s payload (steady window ${round(s.window.seconds)} s, ${Math.round(s.window.receivedPerSecond ?? 0)} frames/s in all)`,
-    `  generator CPU: ${round(s.cpu.usPerFrame, 2)} µs per frame received (user ${round(s.cpu.userUsPerFrame, 2)} µs), ${round((s.cpu.shareOfCore ?? 0) * 100)}% of a core; per worker thread: ${s.cpu.perWorker.map((w) => `${round(w.usPerFrame, 2)} µs`).join(', ') || '–'}`
+    `  generator CPU: ${round(s.cpu.usPerFrame, 2)} µs per frame received (user ${round(s.cpu.userUsPerFrame, 2)} µs), ${round((s.cpu.shareOfCore ?? 0) * 100)}% of a core; per worker thread: ${s.cpu.perWorker.map((w) => `${round(w.usPerFrame, 2)} µs`).join(', ') || '–'}`,
+    `  generator event loop late by p50 / p99 / max ${round(s.cpu.loopDelay?.p50Ms)} / ${round(s.cpu.loopDelay?.p99Ms)} / ${round(s.cpu.loopDelay?.maxMs, 0)} ms (its worker thread lagging most; every latency above includes it)`
   ]
   for (const line of s.firstErrors) lines.push(`  error: ${line.split('\n')[0]}`)
   return lines.join('\n')

@@ -29,7 +29,9 @@
  *
  * In seeds mode (`delivery: "seeds"`, the page's mode) a snapshot or room
  * frame is an error (X_UNEXPECTED_SNAPSHOT); drop-events frames (kind 3)
- * are decoded with protocol/drop-events-codec.js, their ticks must
+ * are checked as the page's decoder checks them and read for their drop ids
+ * and players (scanDropEvents in protocol/drop-events-codec.js; X_BAD_FRAME
+ * where decodeDropEvents would fail), their ticks must
  * increase (X_TICK_ORDER), and each other player's drop in them is timed
  * from the moment its owner sent it to its arrival here, when the owner is
  * a player of the same worker (DropSightings: the two share a clock).
@@ -39,7 +41,7 @@
  */
 
 import { ownerSocketUrl } from '../k6-lib/scenario-config.js'
-import { decodeDropEvents, DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
+import { scanDropEvents, DROP_EVENTS_KIND } from '../../protocol/drop-events-codec.js'
 
 const TICK_MS = 1000 / 60
 /** E_WRONG_NODE answers followed before joining; one more is an error (two processes disagreeing). */
@@ -106,6 +108,12 @@ export class PlayerStats {
     this.steadySettledMs = new Samples()
     /** Seeds mode: another player's drop, sent by its owner → seen in a drop-events frame here, ms (drops sent in the steady window) */
     this.steadySightingMs = new Samples()
+    /**
+     * The same sightings' room ticks from the ball's release (its start tick)
+     * to the tick of the frame that carried it: the room's 1/EVENT_HZ
+     * batching and any hold for a commit, apart from the rest of the way.
+     */
+    this.steadySightingTicks = new Samples()
     /** Seeds mode: drop-events frames and the other players' drops in them (own drops and repeats excluded). */
     this.eventFrames = 0
     this.eventsSeen = 0
@@ -165,7 +173,7 @@ export class DropSightings {
     this.players = new Set()
     /** dropId → sent at (ms) @type {Map<number, number>} */
     this.sentAt = new Map()
-    /** dropId → arrival times seen before the owner's `dropped` @type {Map<number, number[]>} */
+    /** dropId → (arrival time, ticks after release) pairs seen before the owner's `dropped` @type {Map<number, number[]>} */
     this.early = new Map()
   }
 
@@ -178,25 +186,31 @@ export class DropSightings {
     const early = this.early.get(dropId)
     if (!early) return
     this.early.delete(dropId)
-    for (const at of early) this._record(sentAt, at)
+    for (let i = 0; i < early.length; i += 2) this._record(sentAt, early[i], early[i + 1])
   }
 
   /** The owner's `settled` came: every frame naming the drop has long gone out. @param {number} dropId */
   settled (dropId) { this.sentAt.delete(dropId) }
 
-  /** Another player's drop arrived at `at`. @param {number} dropId @param {string} owner @param {number} at */
-  seen (dropId, owner, at) {
+  /**
+   * Another player's drop arrived at `at`, in a frame `ticks` room ticks
+   * after its release.
+   * @param {number} dropId @param {string} owner @param {number} at @param {number} ticks
+   */
+  seen (dropId, owner, at, ticks) {
     if (!this.players.has(owner)) return
     const sentAt = this.sentAt.get(dropId)
-    if (sentAt !== undefined) return this._record(sentAt, at)
+    if (sentAt !== undefined) return this._record(sentAt, at, ticks)
     const early = this.early.get(dropId)
-    if (early) early.push(at)
-    else this.early.set(dropId, [at])
+    if (early) early.push(at, ticks)
+    else this.early.set(dropId, [at, ticks])
   }
 
-  _record (sentAt, at) {
+  _record (sentAt, at, ticks) {
     const stats = this.stats
-    if (sentAt >= stats.steadyFrom && sentAt < stats.steadyTo) stats.steadySightingMs.add(at - sentAt)
+    if (sentAt < stats.steadyFrom || sentAt >= stats.steadyTo) return
+    stats.steadySightingMs.add(at - sentAt)
+    stats.steadySightingTicks.add(ticks)
   }
 }
 
@@ -234,6 +248,14 @@ export class LeanPlayer {
     this.pending = new Map()
     /** dropId → sent at: announced, not yet settled. @type {Map<string, number>} */
     this.inFlight = new Map()
+    /** Arrival time of the drop-events frame being read (_dropEvents). */
+    this.frameAt = 0
+    /** One event of a drop-events frame: another player's drop, timed (scanDropEvents' callback, made once). */
+    this.otherDrop = (dropId, player, startTick, tick) => {
+      if (player === this.playerId) return
+      this.stats.eventsSeen++
+      this.sightings.seen(dropId, player, this.frameAt, tick - startTick)
+    }
     stats.players++
   }
 
@@ -313,20 +335,23 @@ export class LeanPlayer {
     this.lastTick = tick
   }
 
-  /** Seeds mode: a drop-events frame, decoded; the other players' drops in it timed. */
+  /**
+   * Seeds mode: a drop-events frame, checked as the page's decoder checks it,
+   * the other players' drops in it timed. Read for its drop ids and players
+   * only (scanDropEvents): decoding every event whole, its seed as text,
+   * cost the generator some 3 µs of its 19–25 per frame at 6,000 players,
+   * and a busy generator's own lag is in every latency it measures
+   * (loadtest/RESULTS.md).
+   */
   _dropEvents (buffer, start, end, at) {
     const stats = this.stats
     if (buffer[start] !== DROP_EVENTS_KIND) return stats.error('X_UNEXPECTED_SNAPSHOT', `binary frame of kind ${buffer[start]} on a seeds socket`)
-    const frame = decodeDropEvents(buffer.subarray(start, end))
+    this.frameAt = at
+    const frame = scanDropEvents(buffer.subarray(start, end), this.otherDrop)
     if (frame === null) return stats.error('X_BAD_FRAME', `drop-events frame of ${end - start} bytes does not decode`)
     if (frame.tick <= this.lastTick) stats.error('X_TICK_ORDER', `drop-events tick ${frame.tick} after ${this.lastTick}`)
     this.lastTick = frame.tick
     stats.eventFrames++
-    for (const event of frame.events) {
-      if (event.player === this.playerId) continue
-      stats.eventsSeen++
-      this.sightings.seen(event.dropId, event.player, at)
-    }
     // The owner's section: this player's own `settled`, as if each had come on its own.
     for (const message of frame.own) this.receiveMessage(message, at)
   }

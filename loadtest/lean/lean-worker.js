@@ -14,12 +14,15 @@
  */
 import fs from 'node:fs'
 import { parentPort, workerData } from 'node:worker_threads'
+import { monitorEventLoopDelay } from 'node:perf_hooks'
 import { LeanPlayer, PlayerStats, DropSightings } from './lean-player.js'
 import { LeanSocket } from './lean-socket.js'
 
 const JOIN_TIMEOUT_MS = 30_000
 const DRAIN_POLL_MS = 200
 const CLOCK_TICKS_PER_SECOND = 100 // USER_HZ on Linux
+/** How often the event loop's lateness is sampled (ms): a tick's worth of resolution. */
+const LOOP_DELAY_RESOLUTION_MS = 10
 
 /** CPU seconds of the calling thread (user + system), or null where /proc has no thread-self. */
 export function threadCpuSeconds () {
@@ -87,8 +90,11 @@ export function playWorkerPlan (plan, done) {
 
 /**
  * Sets the steady window on the players' clock (performance.now()) and
- * reads the worker's counters and CPU at its two ends; `close` ends it
- * early when the players are done first.
+ * reads the worker's counters and CPU at its two ends, and how late its
+ * event loop ran over it (`loopDelay`, ms: p50, p99, max). Every latency
+ * the worker measures includes its own lag: a frame is timed when its
+ * loop gets to it. `close` ends the window early when the players are done
+ * first.
  * @param {WorkerPlan} plan @param {PlayerStats} stats
  */
 function steadyWindow (plan, stats) {
@@ -96,14 +102,27 @@ function steadyWindow (plan, stats) {
   stats.steadyFrom = performance.now() + (plan.windowFrom - Date.now())
   stats.steadyTo = performance.now() + (plan.windowTo - Date.now())
   const read = () => ({ at: Date.now(), frames: stats.frames, textMessages: stats.textMessages, bytes: stats.bytes, cpuS: threadCpuSeconds() })
+  const delay = monitorEventLoopDelay({ resolution: LOOP_DELAY_RESOLUTION_MS })
+  const open = () => {
+    figures.from = read()
+    delay.enable()
+  }
+  const shut = () => {
+    figures.to = read()
+    if (!delay.disable()) return
+    // Node records the whole interval between two of its timer's turns: the lateness is what exceeds the resolution.
+    const ms = (ns) => Math.max(0, ns / 1e6 - LOOP_DELAY_RESOLUTION_MS)
+    // A sample every resolution; none in a window shorter than that.
+    figures.loopDelay = delay.count === 0 ? null : { p50Ms: ms(delay.percentile(50)), p99Ms: ms(delay.percentile(99)), maxMs: ms(delay.max) }
+  }
   const timers = [
-    setTimeout(() => { figures.from = read() }, Math.max(0, plan.windowFrom - Date.now())),
-    setTimeout(() => { figures.to = read() }, Math.max(0, plan.windowTo - Date.now()))
+    setTimeout(open, Math.max(0, plan.windowFrom - Date.now())),
+    setTimeout(shut, Math.max(0, plan.windowTo - Date.now()))
   ]
   return {
     figures,
     close () {
-      if (!figures.to) figures.to = read()
+      if (!figures.to) shut()
       if (!figures.from) figures.from = figures.to
       for (const timer of timers) clearTimeout(timer)
     }
@@ -118,7 +137,8 @@ function workerResult (stats, window) {
     settleOverheadMs: stats.settleOverheadMs.toArray(),
     steadyAckMs: stats.steadyAckMs.toArray(),
     steadySettledMs: stats.steadySettledMs.toArray(),
-    steadySightingMs: stats.steadySightingMs.toArray()
+    steadySightingMs: stats.steadySightingMs.toArray(),
+    steadySightingTicks: stats.steadySightingTicks.toArray()
   }
   const result = {
     players: stats.players,

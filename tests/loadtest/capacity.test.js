@@ -7,7 +7,7 @@ import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
 /** measureOurs()'s shape, with the figures that decide a step. */
-function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null, slowCommits = 0 } = {}) {
+function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null, slowCommits = 0, generatorLateP99 = 12 } = {}) {
   return {
     players: 2000,
     delivery,
@@ -24,7 +24,7 @@ function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unset
       unsettled,
       errorCount: errors,
       window: { framesPerSecondPerPlayer: 21, bytesPerSecondPerPlayer: 3800 },
-      cpu: { shareOfCore: 0.4, usPerFrame: 9.5 }
+      cpu: { shareOfCore: 0.4, usPerFrame: 9.5, loopDelay: { p50Ms: 1, p99Ms: generatorLateP99, maxMs: 40 } }
     }
   }
 }
@@ -71,6 +71,19 @@ describe('capacity steps', () => {
     expect(cells).toEqual(['0', '3'])
     // A run measured without the server's /metrics has no count, not a zero.
     expect(stepFigures({ ...ours(), analysis: null }, null).slowCommits).toBeNull()
+  })
+
+  it("shows how late the generator's own event loop ran (p99), which every latency it measured includes", () => {
+    const late = stepFigures(ours({ delivery: 'seeds', sightingP99: 290, generatorLateP99: 47 }), null)
+    expect(late).toMatchObject({ generatorLateP99Ms: 47, holds: true })
+    const markdown = capacityMarkdown([stepFigures(ours(), null), late], { rooms: 100, durationS: 20, pinned: true })
+    const header = markdown.split('\n').find((line) => line.startsWith('| players')).split('|').map((cell) => cell.trim())
+    const column = header.indexOf('generator CPU, µs/frame, loop late p99')
+    expect(column).toBeGreaterThan(0)
+    const cells = markdown.split('\n').filter((line) => /^\| 2,000 /.test(line)).map((line) => line.split('|').map((cell) => cell.trim())[column])
+    expect(cells).toEqual(['40%, 9.50, 12 ms', '40%, 9.50, 47 ms'])
+    // A generator that measured none (no steady window) shows none.
+    expect(stepFigures({ ...ours(), summary: { ...ours().summary, cpu: { shareOfCore: 0.4, usPerFrame: 9.5, loopDelay: null } } }, null).generatorLateP99Ms).toBeNull()
   })
 
   it('with --repeat, holds a step only when every run of it did, and says how many did', () => {

@@ -6,7 +6,7 @@ import http from 'node:http'
 import { once } from 'node:events'
 import { WebSocketServer } from 'ws'
 import { startServer } from '../../loadtest/driver/server-process.js'
-import { runLeanLoad, formatLeanSummary, quantile } from '../../loadtest/lean/lean-generator.js'
+import { runLeanLoad, formatLeanSummary, quantile, laggiest } from '../../loadtest/lean/lean-generator.js'
 import { parseLeanArgs } from '../../loadtest/lean/run.js'
 import { encodeSnapshot, encodeRoomFrame } from '../../protocol/snapshot-codec.js'
 
@@ -50,6 +50,22 @@ describe('lean load generator against the real server', () => {
     expect(text).toMatch(/drop → settled p50 \/ p99: \d+ \/ \d+ ms/)
     expect(text).toMatch(/per player: [\d.]+ frames\/s, [\d.]+ KB\/s payload/)
     expect(text).toMatch(/generator CPU: [\d.]+ µs per frame received/)
+    // How late each worker's event loop ran over the window: every latency it timed includes that.
+    for (const worker of summary.cpu.perWorker) {
+      expect(worker.loopDelay.p50Ms).toBeGreaterThanOrEqual(0)
+      expect(worker.loopDelay.p99Ms).toBeGreaterThanOrEqual(worker.loopDelay.p50Ms)
+      expect(worker.loopDelay.maxMs).toBeGreaterThanOrEqual(worker.loopDelay.p99Ms)
+    }
+    expect(summary.cpu.loopDelay).toBe(laggiest(summary.cpu.perWorker))
+    expect(text).toMatch(/generator event loop late by p50 \/ p99 \/ max [\d.]+ \/ [\d.]+ \/ \d+ ms/)
+  })
+
+  it('names the worker whose event loop ran latest at p99, and none without figures', () => {
+    const a = { p50Ms: 1, p99Ms: 4, maxMs: 9 }
+    const b = { p50Ms: 2, p99Ms: 12, maxMs: 15 }
+    expect(laggiest([{ loopDelay: a }, { loopDelay: b }, { loopDelay: null }])).toBe(b)
+    expect(laggiest([{ loopDelay: null }])).toBeNull()
+    expect(laggiest([])).toBeNull()
   })
 
   it('plays seeds mode: no positions, the other players\' drops decoded from drop-events frames and timed', async () => {
@@ -63,9 +79,13 @@ describe('lean load generator against the real server', () => {
     expect(summary.eventsSeen).toBeGreaterThan(summary.dropsSent)
     expect(summary.steady.sightingMs.count).toBeGreaterThan(0)
     expect(summary.steady.sightingMs.p99).toBeGreaterThan(0)
+    // Carried by the room's next frame on its 4 Hz grid (every 15 ticks), held at most half a
+    // period (7 ticks) for a commit and a tick or two more: room ticks, whatever the machine's load.
+    expect(summary.steady.sightingTicks.p50).toBeGreaterThanOrEqual(0)
+    expect(summary.steady.sightingTicks.p99).toBeLessThanOrEqual(15 + 7 + 2)
     const text = formatLeanSummary(summary)
     expect(text).toContain('lean generator (seeds delivery): 20 players')
-    expect(text).toMatch(/sent → seen by the room p50 \/ p99: [\d.]+ \/ [\d.]+ ms/)
+    expect(text).toMatch(/sent → seen by the room p50 \/ p99: [\d.]+ \/ [\d.]+ ms \(\d+ sightings in the steady window\), carried by a frame p50 \/ p99 \d+ \/ \d+ ticks after the ball's release/)
   })
 
   it('refuses a target that is not on this machine', async () => {

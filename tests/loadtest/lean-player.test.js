@@ -175,6 +175,8 @@ describe('LeanPlayer', () => {
     // The watcher saw 7, 8 and 9; 9's owner is no player of this worker: counted, not timed.
     expect(stats.eventsSeen).toBe(3)
     expect([...stats.steadySightingMs.toArray()]).toEqual([180, 100])
+    // Each carried by a frame some room ticks after the ball's release (start tick 5): at ticks 30 and 45.
+    expect([...stats.steadySightingTicks.toArray()]).toEqual([25, 40])
 
     // A snapshot on a seeds socket, a truncated frame and a tick going back are errors.
     watcher.p.receiveBinary(snapshot(50), 0, snapshot(50).length, 2200)

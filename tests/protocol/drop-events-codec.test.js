@@ -1,7 +1,7 @@
 import { describe, it, expect } from 'vitest'
 import fc from 'fast-check'
 import { createBoard, DropSimulator, ENGINE_VERSIONS, StateHasher } from '../../engine/index.js'
-import { encodeDropEvents, decodeDropEvents, FlightHasher, DROP_EVENTS_KIND, DROP_EVENT_BYTES, DROP_EVENTS_HEADER_BYTES } from '../../protocol/drop-events-codec.js'
+import { encodeDropEvents, decodeDropEvents, scanDropEvents, withOwnMessages, FlightHasher, DROP_EVENTS_KIND, DROP_EVENT_BYTES, DROP_EVENTS_HEADER_BYTES } from '../../protocol/drop-events-codec.js'
 import { encodeSnapshot } from '../../protocol/snapshot-codec.js'
 
 /**
@@ -91,6 +91,50 @@ describe('drop-events frames', () => {
     }))
     // An ArrayBuffer (what a browser's socket delivers) reads the same.
     expect(decodeDropEvents(bytes.buffer.slice(0))).toEqual(decodeDropEvents(bytes))
+  })
+})
+
+describe('scanDropEvents (who dropped what, for readers of every frame)', () => {
+  /** What scanDropEvents reports of a frame: its calls in order, then what it returns. */
+  const scan = (bytes) => {
+    const calls = []
+    const result = scanDropEvents(bytes, (dropId, player, startTick, tick) => calls.push({ dropId, player, startTick, tick }))
+    return { calls, result }
+  }
+
+  it("reports each event's drop id, player and start tick, the frame's tick and the owner's section as decodeDropEvents decodes them (property)", () => {
+    const ownArb = fc.array(fc.record({ type: fc.constant('settled'), dropId: fc.nat(), note: fc.string() }), { maxLength: 3 })
+    fc.assert(fc.property(fc.integer({ min: 0, max: 0xffffffff }), fc.array(dropArb, { maxLength: 30 }), ownArb, fc.boolean(), (tick, drops, own, notHex) => {
+      if (notHex && drops.length > 0) drops[0] = { ...drops[0], playerId: 'not-a-hex-id' }
+      const room = encodeDropEvents(tick, '0123456789abcdef', drops)
+      const bytes = own.length > 0 ? withOwnMessages(room, own.map((m) => JSON.stringify(m))) : room
+      const decoded = decodeDropEvents(bytes)
+      const { calls, result } = scan(bytes)
+      expect(calls).toEqual(decoded.events.map((e) => ({ dropId: e.dropId, player: e.player, startTick: e.startTick, tick: decoded.tick })))
+      expect(result).toEqual({ tick: decoded.tick, own: decoded.own })
+    }))
+  })
+
+  it('refuses what decodeDropEvents refuses, before reporting any event (property)', () => {
+    const drops = [1, 2, 3].map((id) => ({ id, bet: 3, startTick: 9, slot: id, engineVersion: ENGINE_VERSIONS[0], playerId: 'c'.repeat(16), dropSeed: 'd'.repeat(64) }))
+    const bytes = withOwnMessages(encodeDropEvents(5, '1'.repeat(16), drops), ['{"type":"settled"}'])
+    fc.assert(fc.property(fc.integer({ min: 0, max: bytes.length - 1 }), (length) => {
+      const truncated = bytes.subarray(0, length)
+      const { calls, result } = scan(truncated)
+      // A cut inside the owner's section leaves no JSON array; a cut right after the events is a frame without one.
+      expect(result === null).toBe(decodeDropEvents(truncated) === null)
+      if (result === null) expect(calls).toEqual([])
+    }))
+    const unknownVersion = bytes.slice()
+    unknownVersion[DROP_EVENTS_HEADER_BYTES + 2 * DROP_EVENT_BYTES + 22] = 200 // the last event's
+    expect(scan(unknownVersion)).toEqual({ calls: [], result: null })
+    expect(scan(encodeSnapshot(1, new Uint8Array(1), 1, new Float64Array(1), new Float64Array(1)))).toEqual({ calls: [], result: null })
+    fc.assert(fc.property(fc.uint8Array({ maxLength: 300 }), (junk) => {
+      const { calls, result } = scan(junk)
+      const decoded = decodeDropEvents(junk)
+      expect(result === null).toBe(decoded === null)
+      expect(calls).toEqual(decoded === null ? [] : decoded.events.map((e) => ({ dropId: e.dropId, player: e.player, startTick: e.startTick, tick: decoded.tick })))
+    }))
   })
 })
 
