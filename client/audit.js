@@ -300,13 +300,15 @@ async function listPlayer (playerId) {
     const paidMilli = settled.reduce((sum, d) => sum + toMilli(d.payout), 0)
     const rtp = settledBetMilli > 0 ? `${(paidMilli / settledBetMilli * 100).toFixed(2)}%` : '–'
     state.playerTotals = { drops: drops.length, settled: settled.length, bet: toCredits(betMilli), payout: toCredits(paidMilli), rtp }
+    // The RTP goes with the settled count at the end, where the text may wrap: in the × column it set
+    // that column's width, and a big RTP (a 29× on 8 rows) pushed the table past a phone's width.
     totals.replaceChildren(el('tr', {},
       el('th', { colspan: 2, text: `${drops.length} drop${drops.length === 1 ? '' : 's'}${drops.length === 200 ? ' (the latest 200)' : ''}` }),
       el('th', { class: 'num', text: formatAmount(toCredits(betMilli)), title: amountTitle(toCredits(betMilli)) }),
-      el('th', { class: 'num', text: `RTP ${rtp}` }),
+      el('th'),
       el('th', { class: 'col-bucket' }),
       el('th', { class: 'num', text: formatAmount(toCredits(paidMilli)), title: amountTitle(toCredits(paidMilli)) }),
-      el('th', { colspan: 2, class: 'note', text: `${settled.length} settled` })))
+      el('th', { colspan: 2, class: 'note', text: `${settled.length} settled, RTP ${rtp}` })))
   } catch (error) {
     note(error.message)
   }
