@@ -21,7 +21,7 @@ import { LeanSocket } from './lean-socket.js'
 const JOIN_TIMEOUT_MS = 30_000
 const DRAIN_POLL_MS = 200
 const CLOCK_TICKS_PER_SECOND = 100 // USER_HZ on Linux
-/** How often the event loop's lateness is sampled (ms): a tick's worth of resolution. */
+/** How often the event loop's lateness is sampled (ms): finer than a room tick (16.7 ms). */
 const LOOP_DELAY_RESOLUTION_MS = 10
 
 /** CPU seconds of the calling thread (user + system), or null where /proc has no thread-self. */
