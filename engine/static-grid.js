@@ -64,10 +64,12 @@ export class StaticGrid {
       }
     }
     // Prefix offsets: cell c lists items[cellStart[c] .. cellStart[c + 1] - 1].
-    this.cellStart = new Int32Array(cells + 1)
     let total = 0
     for (const list of lists) total += list.length
-    this.items = new Int32Array(total)
+    // 16-bit offsets and ids when they fit (every board's do): half the bytes, so more of them stay cached.
+    const Index = total <= 0xffff && shapeCount <= 0xffff ? Uint16Array : Int32Array
+    this.cellStart = new Index(cells + 1)
+    this.items = new Index(total)
     let offset = 0
     for (let cell = 0; cell < cells; cell++) {
       this.cellStart[cell] = offset

@@ -26,7 +26,7 @@ const ANGLE = BODY_ANGLE; const SPIN = BODY_SPIN
 const PREVIOUS_X = BODY_PREVIOUS_X; const PREVIOUS_Y = BODY_PREVIOUS_Y; const PREVIOUS_ANGLE = BODY_PREVIOUS_ANGLE
 const RADIUS = BODY_RADIUS; const INVERSE_MASS = BODY_INVERSE_MASS; const INVERSE_INERTIA = BODY_INVERSE_INERTIA
 const RESTITUTION = BODY_RESTITUTION; const FRICTION = BODY_FRICTION; const ALIVE = BODY_ALIVE
-/** Floats per grid item in World._gridRecords: peg x, y, radius (-1: not a peg). */
+/** Floats per static shape in World._gridRecords: peg x, y, radius (-1: not a peg). */
 const GRID_RECORD = 3
 /** px: far above the rounding error of board coordinates, far below any distance that matters. */
 const SLAB_TOLERANCE = 1e-6
@@ -176,14 +176,14 @@ export class World {
       (id, minX, minY, maxX, maxY) => statics.nearBox(id, margin, minX, minY, maxX, maxY)
     )
     this._staticsDirty = false
-    // The grid's items again, with each peg's centre and radius beside it, so
-    // the sweep reads one contiguous record per candidate; radius -1 marks a
-    // segment, which goes through StaticShapes.sweep().
-    const items = this.staticGrid.items
-    const records = new Float64Array(items.length * GRID_RECORD)
-    for (let k = 0; k < items.length; k++) {
-      const shape = items[k]
-      const r = k * GRID_RECORD
+    // Each shape's peg centre and radius in one small record, read through
+    // the grid's items: a board's records stay a few KiB (one per shape, not
+    // one per cell a shape is listed in), so they stay in the CPU's cache
+    // while other boards and the server's work pass through it; radius -1
+    // marks a segment, which goes through StaticShapes.sweep().
+    const records = new Float64Array(statics.count * GRID_RECORD)
+    for (let shape = 0; shape < statics.count; shape++) {
+      const r = shape * GRID_RECORD
       if (statics.kind[shape] === SHAPE_CIRCLE) {
         const p = shape * PARAMS_PER_SHAPE
         records[r] = statics.params[p]; records[r + 1] = statics.params[p + 1]; records[r + 2] = statics.params[p + 2]
@@ -359,7 +359,7 @@ export class World {
         const pathLength2 = dx * dx + dy * dy
         let clear = true
         for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
-          const r = k * gridRecord
+          const r = items[k] * gridRecord
           const pegRadius = records[r + 2]
           if (pegRadius > 0) {
             const mx = x - records[r]; const my = y - records[r + 1]
@@ -421,7 +421,7 @@ export class World {
           if (cell >= 0) {
             const pathLength2 = dx * dx + dy * dy
             for (let k = cellStart[cell], end = cellStart[cell + 1]; k < end; k++) {
-              const r = k * gridRecord
+              const r = items[k] * gridRecord
               const pegRadius = records[r + 2]
               if (pegRadius > 0) {
                 // Most candidates are pegs the path does not reach: reject

@@ -4,6 +4,9 @@ import { SpatialHash } from '../../engine/spatial-hash.js'
 import { StaticGrid } from '../../engine/static-grid.js'
 import { StaticShapes } from '../../engine/static-shapes.js'
 import { World } from '../../engine/world.js'
+import { DropSimulator } from '../../engine/drop-simulator.js'
+import { createBoard, MIN_ROWS, MAX_ROWS, RISKS } from '../../engine/board.js'
+import { ENGINE_VERSIONS } from '../../engine/version.js'
 
 function randomBodies (count, seed, spread) {
   const random = seedrandom(seed)
@@ -70,18 +73,10 @@ describe('SpatialHash (dynamic broad phase)', () => {
 })
 
 describe('StaticGrid (static broad phase)', () => {
-  it('lists, for any point, every static shape a body of the largest radius there could touch', () => {
-    const shapes = new StaticShapes()
-    const random = seedrandom('statics')
-    const material = { restitution: 0.5, friction: 0.3 }
-    for (let i = 0; i < 150; i++) shapes.addCircle(random() * 600, random() * 600, 2 + random() * 6, material)
-    for (let i = 0; i < 20; i++) shapes.addSegment(random() * 600, random() * 600, random() * 600, random() * 600, material)
-    for (let i = 0; i < 10; i++) { const x = random() * 550; const y = random() * 550; shapes.addBox(x, y, x + 5 + random() * 40, y + 5 + random() * 40, material) }
-    const maxRadius = 7
-    const grid = new StaticGrid({ cellSize: 32 })
-    grid.build(shapes.count, (id, out) => shapes.boundsOf(id, maxRadius, out), (id, a, b, c, d) => shapes.nearBox(id, maxRadius, a, b, c, d))
+  /** Whether, at random points, the grid lists every shape a body of maxRadius there could touch. Returns the touches checked. */
+  function expectEveryTouchListed (grid, shapes, maxRadius, random, points = 5000) {
     let checked = 0
-    for (let n = 0; n < 5000; n++) {
+    for (let n = 0; n < points; n++) {
       const x = -20 + random() * 640
       const y = -20 + random() * 640
       const listed = new Set()
@@ -94,7 +89,43 @@ describe('StaticGrid (static broad phase)', () => {
         }
       }
     }
-    expect(checked).toBeGreaterThan(500)
+    return checked
+  }
+
+  it('lists, for any point, every static shape a body of the largest radius there could touch', () => {
+    const shapes = new StaticShapes()
+    const random = seedrandom('statics')
+    const material = { restitution: 0.5, friction: 0.3 }
+    for (let i = 0; i < 150; i++) shapes.addCircle(random() * 600, random() * 600, 2 + random() * 6, material)
+    for (let i = 0; i < 20; i++) shapes.addSegment(random() * 600, random() * 600, random() * 600, random() * 600, material)
+    for (let i = 0; i < 10; i++) { const x = random() * 550; const y = random() * 550; shapes.addBox(x, y, x + 5 + random() * 40, y + 5 + random() * 40, material) }
+    const maxRadius = 7
+    const grid = new StaticGrid({ cellSize: 32 })
+    grid.build(shapes.count, (id, out) => shapes.boundsOf(id, maxRadius, out), (id, a, b, c, d) => shapes.nearBox(id, maxRadius, a, b, c, d))
+    expect(expectEveryTouchListed(grid, shapes, maxRadius, random)).toBeGreaterThan(500)
+  })
+
+  it('keeps its offsets and ids in 16 bits where they fit (every board), in 32 bits beyond', () => {
+    for (const engineVersion of ENGINE_VERSIONS) {
+      for (let rows = MIN_ROWS; rows <= MAX_ROWS; rows++) {
+        const grid = new DropSimulator(createBoard({ rows, risk: RISKS[rows % RISKS.length], engineVersion })).world.staticGrid
+        expect(grid.items).toBeInstanceOf(Uint16Array)
+        expect(grid.cellStart).toBeInstanceOf(Uint16Array)
+      }
+    }
+    // Small cells and wide shapes: each shape is listed in thousands of cells.
+    const shapes = new StaticShapes()
+    const random = seedrandom('statics, many items')
+    const material = { restitution: 0.5, friction: 0.3 }
+    for (let i = 0; i < 120; i++) shapes.addCircle(random() * 600, random() * 600, 4 + random() * 12, material)
+    for (let i = 0; i < 10; i++) shapes.addSegment(random() * 600, random() * 600, random() * 600, random() * 600, material)
+    const maxRadius = 8
+    const grid = new StaticGrid({ cellSize: 1 })
+    grid.build(shapes.count, (id, out) => shapes.boundsOf(id, maxRadius, out), (id, a, b, c, d) => shapes.nearBox(id, maxRadius, a, b, c, d))
+    expect(grid.items.length).toBeGreaterThan(0xffff)
+    expect(grid.items).toBeInstanceOf(Int32Array)
+    expect(grid.cellStart).toBeInstanceOf(Int32Array)
+    expect(expectEveryTouchListed(grid, shapes, maxRadius, random, 2000)).toBeGreaterThan(100)
   })
 
   it('keeps shape ids ascending within each cell (contacts solved in a fixed order)', () => {
