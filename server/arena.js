@@ -109,7 +109,7 @@ export class Arena {
   tick () {
     let inFlight = 0
     const landed = this.drops.landed
-    for (const room of this.rooms.values()) {
+    for (const room of this.rooms.inStepOrder()) {
       try {
         room.step(landed)
       } catch (error) {

@@ -4,9 +4,9 @@ import { boardOf } from './boards.js'
 import { gameError } from '../errors.js'
 
 /**
- * The rooms alive in this process, by id, in creation order (the order the
- * scheduler steps them). Creates a room on its first join and disposes it
- * once it is idle (no clients, no balls in flight).
+ * The rooms alive in this process, by id, in creation order. Creates a room
+ * on its first join and disposes it once it is idle (no clients, no balls in
+ * flight). The arena steps them board by board (inStepOrder).
  */
 export class RoomRegistry {
   /**
@@ -24,6 +24,8 @@ export class RoomRegistry {
     /** @type {Map<string, Room>} */
     this.rooms = new Map()
     this._created = 0
+    /** @type {Room[] | null} the rooms grouped by board, rebuilt after a change */
+    this._stepOrder = null
   }
 
   /** @param {string} id */
@@ -48,14 +50,40 @@ export class RoomRegistry {
       checkEvery: this.checkEvery,
       snapshotPhase: this._created++
     })
-    this.rooms.set(room.id, room)
-    this.onChange(room)
+    this._add(room)
     return room
   }
 
   /** Adds a room built elsewhere (benchmarks run many rooms per board). @param {Room} room */
   adopt (room) {
+    this._add(room)
+  }
+
+  /**
+   * The rooms in the order a tick steps them: those on one board one after
+   * another (boards in the order their first room was created, rooms in
+   * creation order within a board), so a board's pegs and grid are read
+   * from the CPU's cache by all its rooms' balls in a row rather than
+   * fetched again for each room. The order decides no outcome.
+   * @returns {readonly Room[]}
+   */
+  inStepOrder () {
+    if (this._stepOrder === null) {
+      const byBoard = new Map()
+      for (const room of this.rooms.values()) {
+        const rooms = byBoard.get(room.board)
+        if (rooms) rooms.push(room)
+        else byBoard.set(room.board, [room])
+      }
+      this._stepOrder = [...byBoard.values()].flat()
+    }
+    return this._stepOrder
+  }
+
+  /** @param {Room} room */
+  _add (room) {
     this.rooms.set(room.id, room)
+    this._stepOrder = null
     this.onChange(room)
   }
 
@@ -64,6 +92,7 @@ export class RoomRegistry {
     const room = this.rooms.get(id)
     if (!room) return undefined
     this.rooms.delete(id)
+    this._stepOrder = null
     this.onChange(room)
     return room
   }
@@ -72,6 +101,7 @@ export class RoomRegistry {
     for (const room of this.rooms.values()) {
       if (!room.isIdle) continue
       this.rooms.delete(room.id)
+      this._stepOrder = null
       this.onChange(room)
     }
   }
