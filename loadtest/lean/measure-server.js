@@ -25,6 +25,7 @@ import { LeanSocket } from './lean-socket.js'
 import { runLeanLoad } from './lean-generator.js'
 import { startServer } from '../driver/server-process.js'
 import { readProcStat, readMachineCpu, MetricsSampler } from '../driver/metrics-sampler.js'
+import { readThreadSchedules, busiestThread } from '../driver/thread-schedule.js'
 import { analyzeServerSamples } from '../driver/run-analysis.js'
 
 const FLOOR_SERVER = fileURLToPath(new URL('./ws-floor-server.js', import.meta.url))
@@ -151,7 +152,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
   const server = await startServer({ dataDir: dir, logFile: path.join(dir, 'server.log'), cpus: pin ? '0' : undefined, env, profileDir })
   let from = null
   let to = null
-  const read = () => ({ at: performance.now(), server: readProcStat(server.pid), machine: readMachineCpu() })
+  const read = () => ({ at: performance.now(), server: readProcStat(server.pid), machine: readMachineCpu(), threads: readThreadSchedules(server.pid) })
   const sampler = sample ? new MetricsSampler({ url: server.url, intervalMs: 1000, pids: { server: server.pid, k6: process.pid } }) : null
   let analysis = null
   try {
@@ -171,6 +172,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
     const windowS = (to.at - from.at) / 1000
     const serverCpuS = to.server.cpuS - from.server.cpuS
     const others = othersCpuS(from.machine, to.machine, serverCpuS + summary.cpu.seconds)
+    const writer = busiestThread(from.threads, to.threads, 'WorkerThread', windowS)
     return {
       summary,
       analysis,
@@ -184,6 +186,9 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
       serverUsPerFrame: serverCpuS * 1e6 / summary.window.received,
       serverKernelUsPerFrame: (to.server.kernelS - from.server.kernelS) * 1e6 / summary.window.received,
       serverRss: to.server.rss,
+      /** The SQLite writer thread's share of the window on a CPU, and waiting for one (null without /proc). */
+      writerRunShare: writer?.runShare ?? null,
+      writerWaitShare: writer?.waitShare ?? null,
       othersShare: others === null ? null : others / windowS
     }
   } finally {

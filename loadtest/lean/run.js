@@ -15,6 +15,7 @@ import { optionsOrExit } from '../../cli/usage-error.js'
 import { parseDuration, positiveInteger, loopbackTarget, deliveryMode } from '../driver/cli-args.js'
 import { startServer } from '../driver/server-process.js'
 import { readProcStat, readThreadStat } from '../driver/metrics-sampler.js'
+import { readThreadSchedules, busiestThread } from '../driver/thread-schedule.js'
 import { summarizeCpuProfile, profileParts } from '../driver/cpu-profile-summary.js'
 import { runLeanLoad, formatLeanSummary } from './lean-generator.js'
 import { pinSelf } from './measure-server.js'
@@ -82,7 +83,7 @@ async function main () {
     console.log(`server: pid ${server.pid} at ${server.url}${options.pin ? ', pinned to CPU 0' : ''} (log: ${path.join(dir, 'server.log')})`)
   }
   if (options.pin && !pinSelf('1')) console.log('taskset not available: the generator is not pinned')
-  const readServer = () => server ? { at: performance.now(), ns: process.hrtime.bigint(), stat: readProcStat(server.pid), main: readThreadStat(server.pid, server.pid) } : null
+  const readServer = () => server ? { at: performance.now(), ns: process.hrtime.bigint(), stat: readProcStat(server.pid), main: readThreadStat(server.pid, server.pid), threads: readThreadSchedules(server.pid) } : null
   let serverFrom = null
   let serverTo = null
   let summary
@@ -102,6 +103,8 @@ async function main () {
     const mainS = serverFrom.main && serverTo.main ? serverTo.main.cpuS - serverFrom.main.cpuS : null
     const drops = summary.steady.ackMs.count
     console.log(`  server CPU: ${(cpuS / seconds * 100).toFixed(1)}% of a core${mainS === null ? '' : ` (main thread ${(mainS / seconds * 100).toFixed(1)}%)`}, ${(cpuS * 1e6 / summary.window.received).toFixed(2)} µs per frame its players received, ${(cpuS * 1e6 / seconds / summary.players).toFixed(0)} µs per player-second, ${drops > 0 ? (cpuS * 1e6 / drops).toFixed(0) : '–'} µs per drop sent in the window`)
+    const writer = busiestThread(serverFrom.threads, serverTo.threads, 'WorkerThread', seconds)
+    if (writer) console.log(`  SQLite writer thread: on a CPU ${(writer.runShare * 100).toFixed(1)}% of the window, runnable but waiting for one ${(writer.waitShare * 100).toFixed(1)}%`)
   }
   if (options.profile && server && serverFrom && serverTo) printProfile(path.join(dir, 'profile'), serverFrom, serverTo, summary.steady.ackMs.count)
   process.exitCode = summary.passed ? 0 : 1

@@ -7,11 +7,13 @@ import { measureFloor } from '../../loadtest/lean/measure-server.js'
 import { clusterStepFigures, clusterCapacityMarkdown, parseClusterCapacityArgs, CLUSTER_SECTION } from '../../loadtest/lean/cluster-capacity.js'
 
 /** measureOurs()'s shape, with the figures that decide a step. */
-function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null, slowCommits = 0, generatorLateP99 = 12 } = {}) {
+function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unsettled = 0, settled = 100, serverErrors = {}, delivery, sightingP99 = null, slowCommits = 0, generatorLateP99 = 12, writerWaitShare = 0.05 } = {}) {
   return {
     players: 2000,
     delivery,
     serverShare: 0.8,
+    writerRunShare: 0.15,
+    writerWaitShare,
     serverCpuS: 12,
     serverUsPerFrame: 19,
     othersShare: 0.05,
@@ -60,17 +62,18 @@ describe('capacity steps', () => {
     expect(markdown).toMatch(/\| 2,500 \| seeds \|.*fails: another player's drop/)
   })
 
-  it('counts the commits over 50 ms, so a run failed by a stall of the disk says so', () => {
-    const stalled = stepFigures(ours({ delivery: 'seeds', sightingP99: 420, ackP99: 330, slowCommits: 3 }), null)
-    expect(stalled).toMatchObject({ slowCommits: 3, holds: false })
+  it('counts the commits over 50 ms beside how long the writer thread waited for the CPU, so a run says which held its commits', () => {
+    const stalled = stepFigures(ours({ delivery: 'seeds', sightingP99: 420, ackP99: 330, slowCommits: 3, writerWaitShare: 0.564 }), null)
+    expect(stalled).toMatchObject({ slowCommits: 3, writerWaitShare: 0.564, holds: false })
     const markdown = capacityMarkdown([stepFigures(ours(), null), stalled], { rooms: 100, durationS: 20, pinned: true })
     const header = markdown.split('\n').find((line) => line.startsWith('| players'))
-    const column = header.split('|').map((cell) => cell.trim()).indexOf('commits > 50 ms')
+    const column = header.split('|').map((cell) => cell.trim()).indexOf('commits > 50 ms, writer waiting for the CPU')
     expect(column).toBeGreaterThan(0)
     const cells = markdown.split('\n').filter((line) => /^\| 2,000 /.test(line)).map((line) => line.split('|').map((cell) => cell.trim())[column])
-    expect(cells).toEqual(['0', '3'])
-    // A run measured without the server's /metrics has no count, not a zero.
+    expect(cells).toEqual(['0, 5%', '3, 56%'])
+    // A run measured without the server's /metrics, or without /proc, has no figure, not a zero.
     expect(stepFigures({ ...ours(), analysis: null }, null).slowCommits).toBeNull()
+    expect(stepFigures({ ...ours(), writerWaitShare: null }, null).writerWaitShare).toBeNull()
   })
 
   it("shows how late the generator's own event loop ran (p99), which every latency it measured includes", () => {
