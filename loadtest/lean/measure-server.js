@@ -186,8 +186,7 @@ export async function measureOurs ({ players, rooms = 100, durationS, rampS, pin
       serverUsPerFrame: serverCpuS * 1e6 / summary.window.received,
       serverKernelUsPerFrame: (to.server.kernelS - from.server.kernelS) * 1e6 / summary.window.received,
       serverRss: to.server.rss,
-      /** The SQLite writer thread's share of the window on a CPU, and waiting for one (null without /proc). */
-      writerRunShare: writer?.runShare ?? null,
+      /** The SQLite writer thread's share of the window spent waiting for a CPU (null without /proc). */
       writerWaitShare: writer?.waitShare ?? null,
       othersShare: others === null ? null : others / windowS
     }

@@ -87,22 +87,25 @@ export class RoomRegistry {
     this.onChange(room)
   }
 
+  /** @param {Room} room */
+  _delete (room) {
+    this.rooms.delete(room.id)
+    this._stepOrder = null
+    this.onChange(room)
+  }
+
   /** Removes a room whatever its state (it moved to another process). @param {string} id @returns {Room | undefined} */
   remove (id) {
     const room = this.rooms.get(id)
     if (!room) return undefined
-    this.rooms.delete(id)
-    this._stepOrder = null
-    this.onChange(room)
+    this._delete(room)
     return room
   }
 
   disposeIdle () {
     for (const room of this.rooms.values()) {
       if (!room.isIdle) continue
-      this.rooms.delete(room.id)
-      this._stepOrder = null
-      this.onChange(room)
+      this._delete(room)
     }
   }
 

@@ -12,7 +12,6 @@ function ours ({ tickP99 = 0.004, lagP99 = 0.006, ackP99 = 40, errors = 0, unset
     players: 2000,
     delivery,
     serverShare: 0.8,
-    writerRunShare: 0.15,
     writerWaitShare,
     serverCpuS: 12,
     serverUsPerFrame: 19,
