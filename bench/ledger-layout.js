@@ -14,12 +14,13 @@
  * settled and credited. Layouts:
  *
  * - as shipped (server/store/migrations.js): each settlement adds its drop
- *   to its room's totals (room_buckets, migration 3), and drops_room_id
- *   (room, id) replaces drops_room;
+ *   to its room's totals (room_buckets, migration 3), drops_room_id
+ *   (room, id) replaces drops_room, and no index of drops by player
+ *   (migration 4: a player's history goes through their seeds);
+ * - before migration 4: the drops_player index (player_id, id) as well;
  * - before migration 3: the drops_room index, and no room totals (the
  *   writer's statement adding to them still runs, its insert ignored by a
  *   trigger: a lookup of the drop's row by id);
- * - less the drops_player index (a player's history would go through its seeds);
  * - the shipped schema in a file of 1,024- or 2,048-byte pages instead of
  *   SQLite's 4,096 (each random write then logs a smaller page; the B-trees
  *   are deeper).
@@ -63,11 +64,11 @@ const ROOM_TOTALS_IGNORED = `CREATE TABLE room_buckets (room TEXT, engine_versio
 CREATE TRIGGER room_buckets_ignored BEFORE INSERT ON room_buckets BEGIN SELECT RAISE(IGNORE); END;`
 
 const LAYOUTS = [
-  { name: 'as shipped', migrations: MIGRATIONS, drop: [] },
-  { name: 'before migration 3', migrations: MIGRATIONS.filter((m) => m.version < 3), drop: [], then: ROOM_TOTALS_IGNORED },
-  { name: 'without drops_player', migrations: MIGRATIONS, drop: ['drops_player'] },
-  { name: 'pages of 1,024 bytes', migrations: MIGRATIONS, drop: [], pageSize: 1024 },
-  { name: 'pages of 2,048 bytes', migrations: MIGRATIONS, drop: [], pageSize: 2048 }
+  { name: 'as shipped', migrations: MIGRATIONS },
+  { name: 'before migration 4', migrations: MIGRATIONS.filter((m) => m.version < 4) },
+  { name: 'before migration 3', migrations: MIGRATIONS.filter((m) => m.version < 3), then: ROOM_TOTALS_IGNORED },
+  { name: 'pages of 1,024 bytes', migrations: MIGRATIONS, pageSize: 1024 },
+  { name: 'pages of 2,048 bytes', migrations: MIGRATIONS, pageSize: 2048 }
 ]
 
 const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-ledger-layout-'))
@@ -95,11 +96,7 @@ function run (layout, file) {
   for (const f of [file, `${file}-wal`, `${file}-shm`]) fs.rmSync(f, { force: true })
   if (layout.pageSize) setPageSize(file, layout.pageSize)
   const db = openSqliteDatabase(file, { autoCheckpoint: false })
-  for (const migration of layout.migrations) {
-    let sql = migration.sql
-    for (const index of layout.drop) sql = sql.replace(new RegExp(`CREATE INDEX ${index} .*\\n`), '')
-    db.exec(sql)
-  }
+  for (const migration of layout.migrations) db.exec(migration.sql)
   if (layout.then) db.exec(layout.then)
   const players = createPlayers(db)
   const writes = prepareWrites(db)

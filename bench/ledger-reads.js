@@ -50,6 +50,10 @@ try {
   await probe(`a page of a ${Math.round(DROPS / 10).toLocaleString('en-US')}-drop time window`, async () => (await store.listDrops({ from: Math.round(DROPS * 0.2), to: Math.round(DROPS * 0.3), limit: 100 })).length)
   await probe('a page of the drops up to a time', async () => (await store.listDrops({ to: Math.round(DROPS * 0.2), limit: 100 })).length)
   await probe('a page of a busy room\'s drops', async () => (await store.listDrops({ room: '16-medium.7', limit: 100 })).length)
+  await probe('a page of the heavy player\'s drops', async () => (await store.listDrops({ playerId: 'player-7', limit: 100 })).length)
+  // Drop 0.4 × DROPS (a multiple of 4) is the heavy player's, on their first seed: a page from the middle of their history.
+  await probe('a page of theirs from the middle of their history', async () => (await store.listDrops({ playerId: 'player-7', beforeId: Math.round(DROPS * 0.1) * 4, limit: 100 })).length)
+  await probe('a page of theirs in a room', async () => (await store.listDrops({ playerId: 'player-7', room: '16-medium.8', limit: 100 })).length)
   await probe('the heavy player\'s retired seed, exported whole', () => count(store.iterateDrops({ serverSeedHash: heavySeed })))
   await probe('the heavy player, exported whole', () => count(store.iterateDrops({ playerId: 'player-7' })))
   await store.close()

@@ -104,7 +104,7 @@ function dropLookupRoutes (app, store) {
 
   app.get('/api/audit/drops', {
     schema: {
-      summary: 'Drops, newest first, filtered by player, room and creation time',
+      summary: 'Drops, newest first, filtered by player, room and creation time (by id; a player\'s in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page\'s last drop>',
       querystring: {
         type: 'object',
         properties: {

@@ -3,7 +3,8 @@ import { gameError } from '../errors.js'
 import { dropList, dropRecord, errors } from './schemas.js'
 
 /**
- * A player's own drops, newest first (the server seed appears on a drop
+ * A player's own drops, newest first in the order they were played
+ * (store/drop-pages.js; the server seed appears on a drop
  * only once it has been revealed). Another player's drop is read only
  * through its share link (routes/share.js), whose token needs its seed.
  * @param {import('fastify').FastifyInstance} app
@@ -15,7 +16,7 @@ export default async function dropRoutes (app, { store, authGuard }) {
   app.get('/api/drops', {
     onRequest: asPlayer,
     schema: {
-      summary: "The caller's drops, newest first; page with ?before=<lowest id seen>",
+      summary: "The caller's drops, newest first (in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page's last drop>",
       querystring: {
         type: 'object',
         properties: {

@@ -1,7 +1,7 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
-import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, dropsPageSql, EXPORT_PAGE_DROPS, dropsInPages, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
-import { dropFilterSql, SEED_OF_HASH_SQL } from './drop-filter.js'
+import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, EXPORT_PAGE_DROPS, dropsInPages, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
+import { dropsPage, driveDropsPageAsync } from './drop-pages.js'
 
 const INT8_OID = 20
 const NUMERIC_OID = 1700
@@ -156,29 +156,16 @@ export class PostgresStore {
   }
 
   async listDrops (filter) {
-    const seed = await this._seedOfFilter(filter)
-    if (seed === null) return []
-    return this._selectDrops(filter, seed, 'DESC', filter.limit)
+    return this._selectDrops(filter, 'DESC', filter.limit)
   }
 
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    const seed = await this._seedOfFilter(filter)
-    if (seed === null) return
-    yield * dropsInPages((afterId) => this._selectDrops({ ...filter, afterId }, seed, 'ASC', pageSize), pageSize)
+    yield * dropsInPages((afterId) => this._selectDrops({ ...filter, afterId }, 'ASC', pageSize), pageSize)
   }
 
-  /** A page of the drops `filter` matches, in id order, on the listing pool. */
-  async _selectDrops (filter, seed, order, limit) {
-    const { where, params } = dropFilterSql(filter, (n) => '$' + n, seed)
-    const { rows } = await this.listingPool.query(dropsPageSql(where, order, `$${params.length + 1}`), [...params, limit])
-    return rows.map(toDropRecord)
-  }
-
-  /** The seed a filter names by its hash (drop-filter.js SEED_OF_HASH_SQL): undefined if none is named, null if there is no such seed. */
-  async _seedOfFilter (filter) {
-    if (filter.serverSeedHash === undefined) return undefined
-    const { rows } = await this.listingPool.query(SEED_OF_HASH_SQL.postgres, [filter.serverSeedHash])
-    return rows[0] ?? null
+  /** A page of the drops `filter` matches (drop-pages.js), on the listing pool. */
+  async _selectDrops (filter, order, limit) {
+    return driveDropsPageAsync(dropsPage(filter, order, limit, 'postgres'), async (sql, params) => (await this.listingPool.query(sql, params)).rows)
   }
 
   async listInFlightDrops () {

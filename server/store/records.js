@@ -202,30 +202,19 @@ export const EXPORT_PAGE_DROPS = 250
 
 /**
  * Every drop an export matches, oldest first, read a page at a time: each
- * page the next `pageSize` drops with an id above the last one read (both
- * stores' iterateDrops).
- * @param {(afterId: number) => Promise<object[]>} readPage drop records in id order, at most `pageSize`
+ * page the next `pageSize` drops after the last one read (both stores'
+ * iterateDrops; drop-pages.js says in which order).
+ * @param {(afterId: number | undefined) => Promise<object[]>} readPage drop records, at most `pageSize`; the first page's cursor is undefined
  * @param {number} pageSize
  */
 export async function * dropsInPages (readPage, pageSize) {
-  let afterId = 0
+  let afterId
   for (;;) {
     const drops = await readPage(afterId)
     yield * drops
     if (drops.length < pageSize) return
     afterId = drops[drops.length - 1].id
   }
-}
-
-/**
- * A page of drops (with the seed where revealed) in id order, in either
- * dialect: the listings (`DESC`, newest first) and an export's pages
- * (`ASC`) of both stores.
- * @param {string} where from dropFilterSql @param {'ASC' | 'DESC'} order @param {string} limit the limit's parameter marker
- */
-export function dropsPageSql (where, order, limit) {
-  return `SELECT ${DROP_COLUMNS_WITH_REVEALED_SEED} FROM drops d
-    JOIN server_seeds s ON s.id = d.server_seed_id ${where} ORDER BY d.id ${order} LIMIT ${limit}`
 }
 
 /**

@@ -12,33 +12,23 @@
  * than the hop to a thread.
  */
 import { isMainThread, parentPort, workerData } from 'node:worker_threads'
-import { toDropRecord, dropsPageSql } from './records.js'
-import { dropFilterSql, SEED_OF_HASH_SQL } from './drop-filter.js'
+import { dropsPage, driveDropsPage } from './drop-pages.js'
 import { openSqliteDatabase, withSqliteCode } from './sqlite-database.js'
 import { lowerThisThreadPriority } from './thread-priority.js'
 
 /**
  * The reads of drops that may cover many of them, on one connection. Each
- * page's statement is prepared per call: its WHERE depends on the filter.
+ * page's statements are prepared per call: their WHERE depends on the filter.
  * @param {import('node:sqlite').DatabaseSync} db
  */
 export function prepareReads (db) {
-  const seedOfHash = db.prepare(SEED_OF_HASH_SQL.sqlite)
-  const selectDrops = (filter, order, limit) => {
-    let seed
-    if (filter.serverSeedHash !== undefined) {
-      seed = seedOfHash.get(filter.serverSeedHash)
-      if (!seed) return [] // no such seed: no drops
-    }
-    const { where, params } = dropFilterSql(filter, () => '?', seed)
-    return db.prepare(dropsPageSql(where, order, '?')).all(...params, limit).map(toDropRecord)
-  }
+  const selectDrops = (filter, order, limit) => driveDropsPage(dropsPage(filter, order, limit, 'sqlite'), (sql, params) => db.prepare(sql).all(...params))
   return {
     /** Newest first, at most `filter.limit`. @param {import('./drop-filter.js').DropFilter & { limit: number }} filter */
     listDrops: (filter) => selectDrops(filter, 'DESC', filter.limit),
     /**
-     * An export's page: the oldest `pageSize` matches with an id above `afterId`.
-     * @param {{ filter: import('./drop-filter.js').DropFilter, afterId: number, pageSize: number }} page
+     * An export's page: the next `pageSize` matches after the drop `afterId` (none: the first page).
+     * @param {{ filter: import('./drop-filter.js').DropFilter, afterId?: number, pageSize: number }} page
      */
     dropsPage: ({ filter, afterId, pageSize }) => selectDrops({ ...filter, afterId }, 'ASC', pageSize)
   }

@@ -190,6 +190,45 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     expect((await store.roomStats('12-high', '2.0.0'))).toMatchObject({ settled: 0, inFlight: 0, buckets: [], rtp: null })
   })
 
+  it("lists a player's drops in play order, seed by seed and nonce by nonce, from a page's cursor on, whatever their ids", async () => {
+    const collect = async (filter, pageSize) => { const ids = []; for await (const drop of store.iterateDrops(filter, pageSize)) ids.push(drop.id); return ids }
+    const ids = async (filter) => (await store.listDrops(filter)).map((d) => d.id)
+    await store.createPlayer(newPlayer('eve', 1000))
+    await store.createPlayer(newPlayer('gus', 1000))
+    const eve = await store.loadAccount('player-eve')
+    const gus = await store.loadAccount('player-gus')
+    // eve: 70-72 on her first seed, then 73 and 74 (in 8-low) on her second; gus's 75 between them.
+    await store.commitBatch(toLedgerBatch({ drops: [70, 71, 72].map((id, n) => gameDrop(id, eve, { nonce: n })), settlements: [] }))
+    await store.commitBatch(toLedgerBatch({ drops: [gameDrop(75, gus, { nonce: 0 })], settlements: [] }))
+    await store.rotateSeed({ playerId: 'player-eve', oldSeedId: eve.seed.id, newSeed: seedNamed('eve-2'), at: Date.UTC(2026, 11, 1, 13) })
+    const eve2 = await store.loadAccount('player-eve')
+    await store.commitBatch(toLedgerBatch({ drops: [gameDrop(73, eve2, { nonce: 0 }), gameDrop(74, eve2, { nonce: 1, room: '8-low' })], settlements: [] }))
+    // gus's second seed takes lower ids than his first (in a cluster, another process's block of ids): play order still lists it last.
+    await store.rotateSeed({ playerId: 'player-gus', oldSeedId: gus.seed.id, newSeed: seedNamed('gus-2'), at: Date.UTC(2026, 11, 1, 13) })
+    const gus2 = await store.loadAccount('player-gus')
+    await store.commitBatch(toLedgerBatch({ drops: [66, 67].map((id, n) => gameDrop(id, gus2, { nonce: n })), settlements: [] }))
+
+    expect(await ids({ playerId: 'player-eve', limit: 10 })).toEqual([74, 73, 72, 71, 70])
+    expect(await ids({ playerId: 'player-eve', limit: 2 })).toEqual([74, 73])
+    expect(await ids({ playerId: 'player-eve', beforeId: 73, limit: 2 })).toEqual([72, 71])
+    expect(await ids({ playerId: 'player-eve', beforeId: 71, limit: 2 })).toEqual([70])
+    expect(await ids({ playerId: 'player-eve', beforeId: 70, limit: 2 })).toEqual([])
+    expect(await ids({ playerId: 'player-eve', room: '8-low', limit: 10 })).toEqual([74])
+    expect(await ids({ playerId: 'player-eve', room: '16-medium', beforeId: 74, limit: 10 })).toEqual([73, 72, 71, 70])
+    expect(await ids({ playerId: 'player-eve', serverSeedHash: eve2.seed.hash, limit: 10 })).toEqual([74, 73])
+    // A cursor that is not one of her drops bounds the ids.
+    expect(await ids({ playerId: 'player-eve', beforeId: 75, limit: 10 })).toEqual([74, 73, 72, 71, 70])
+    expect(await ids({ playerId: 'player-eve', beforeId: 72, room: '8-low', limit: 10 })).toEqual([])
+    expect(await ids({ playerId: 'player-eve', beforeId: 1, limit: 10 })).toEqual([])
+    expect(await collect({ playerId: 'player-eve' }, 2)).toEqual([70, 71, 72, 73, 74])
+    expect(await collect({ playerId: 'player-eve', from: Date.UTC(2026, 11, 1, 12, 1, 11) }, 1)).toEqual([71, 72, 73, 74])
+
+    expect(await ids({ playerId: 'player-gus', limit: 10 })).toEqual([67, 66, 75])
+    expect(await ids({ playerId: 'player-gus', beforeId: 66, limit: 10 })).toEqual([75])
+    expect(await collect({ playerId: 'player-gus' }, 1)).toEqual([75, 66, 67])
+    expect(await collect({ playerId: 'player-gus' }, 10)).toEqual([75, 66, 67])
+  })
+
   it("pages a seed's drops oldest first and newest first: only that seed's, across pages, another seed and another player's drops between them left out", async () => {
     const collect = async (filter, pageSize) => { const ids = []; for await (const drop of store.iterateDrops(filter, pageSize)) ids.push(drop.id); return ids }
     await store.createPlayer(newPlayer('cy', 1000))
