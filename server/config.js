@@ -59,6 +59,7 @@ export const CONFIG_SCHEMA = {
       else: { if: { pattern: '^postgres(ql)?://' }, then: { format: 'url', errorMessage: 'is not a valid postgres:// URL' } }
     },
     SQLITE_BUSY_TIMEOUT_MS: integer(0, 60000, '5000'),
+    LEDGER_COMMIT_TICKS: integer(1, 15, '2'),
     OPERATOR_TOKEN: {
       type: 'string',
       default: '',
@@ -155,6 +156,7 @@ export const CONFIG_SCHEMA = {
  * @property {string} operatorToken @property {boolean} operatorTokenGenerated
  * @property {number} snapshotHz @property {number} startingBalance
  * @property {number} eventHz drop-events frames per second at most, per room, to seeds-mode sockets
+ * @property {number} ledgerCommitTicks ticks a ledger transaction gathers at least (game/drop.js GroupCommit)
  * @property {'snapshot' | 'immediate'} spectatorEvents when the room hears of a drop: with its next snapshot (one frame), or as soon as it is committed (one `events` frame per room per batch)
  * @property {number} minBet @property {number} maxBet @property {string} logLevel
  * @property {'auto' | 'json' | 'pretty'} logFormat pretty logs and a banner on a terminal, JSON lines otherwise (server/log-format.js)
@@ -270,6 +272,7 @@ export function loadConfig (env = process.env) {
     operatorTokenGenerated: generated,
     snapshotHz: Number(values.SNAPSHOT_HZ),
     eventHz: Number(values.EVENT_HZ),
+    ledgerCommitTicks: values.LEDGER_COMMIT_TICKS,
     spectatorEvents: values.SPECTATOR_EVENTS,
     startingBalance: values.STARTING_BALANCE,
     minBet: values.MIN_BET,

@@ -55,6 +55,7 @@ export class DropLifecycle {
       store,
       metrics,
       log,
+      ticksPerCommit: config.ledgerCommitTicks,
       onCommitted: (batch, outcome) => this._committed(batch, outcome),
       onFailed: (batch, error) => this._failed(batch, error)
     })

@@ -150,6 +150,12 @@ export const MAX_MERGED_ENTRIES = 400
  * a rollback. Other ledger writes (seed rotation, client seed) join the same
  * queue through `run()`, so they are ordered with the drops around them.
  *
+ * A transaction gathers at least `ticksPerCommit` ticks (LEDGER_COMMIT_TICKS,
+ * default 2): each commit costs the store a sync of its journal to the
+ * disk and the writes of its hot pages whatever its size, so two ticks a
+ * transaction took 2–4 points of a core off a process of 4,500 players
+ * (loadtest/RESULTS.md), for up to a tick (17 ms) more before `dropped`.
+ *
  * When the database is slower than the clock (a commit still running when
  * the next tick ends), the ticks that end meanwhile are merged into the
  * next transaction instead of queueing one transaction per tick, and a
@@ -168,8 +174,9 @@ export class GroupCommit {
    * @param {import('../metrics.js').Metrics} options.metrics
    * @param {{ error: Function }} options.log
    * @param {number} [options.maxMergedEntries] see MAX_MERGED_ENTRIES
+   * @param {number} [options.ticksPerCommit] ticks a transaction gathers at least (1: every tick's own)
    */
-  constructor ({ store, onCommitted, onFailed, metrics, log, maxMergedEntries = MAX_MERGED_ENTRIES }) {
+  constructor ({ store, onCommitted, onFailed, metrics, log, maxMergedEntries = MAX_MERGED_ENTRIES, ticksPerCommit = 1 }) {
     this.store = store
     this.onCommitted = onCommitted
     this.onFailed = onFailed
@@ -179,6 +186,9 @@ export class GroupCommit {
     this.tail = Promise.resolve()
     this.queued = 0
     this.maxMergedEntries = maxMergedEntries
+    this.ticksPerCommit = ticksPerCommit
+    /** ticks ended since the open batch was started */
+    this._ticksOpen = 0
     this._flushWanted = false
   }
 
@@ -205,13 +215,17 @@ export class GroupCommit {
   }
 
   /**
-   * Ends a tick: seals the open batch and queues its transaction, or, while
-   * an earlier one is still being written, keeps it open so the following
-   * ticks join it, up to maxMergedEntries. Called once per tick.
+   * Ends a tick: seals the open batch and queues its transaction, or keeps
+   * it open so the following ticks join it, up to maxMergedEntries: until
+   * it has gathered ticksPerCommit ticks, and while an earlier one is still
+   * being written. Called once per tick (the clock never stops, so a batch
+   * kept open is sealed at a later tick).
    */
   flush () {
     const open = this.open
-    if (this.queued > 0 && open.drops.length + open.settlements.length < this.maxMergedEntries) {
+    const entries = open.drops.length + open.settlements.length
+    if (++this._ticksOpen < this.ticksPerCommit && entries < this.maxMergedEntries) return
+    if (this.queued > 0 && entries < this.maxMergedEntries) {
       this._flushWanted = true
       return
     }
@@ -234,6 +248,7 @@ export class GroupCommit {
   }
 
   _seal () {
+    this._ticksOpen = 0
     this._flushWanted = false
     const batch = this.open
     if (batch.drops.length === 0 && batch.settlements.length === 0) return

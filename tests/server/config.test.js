@@ -20,7 +20,8 @@ describe('configuration', () => {
       maxBet: 1000000,
       logLevel: 'info',
       dropRate: 20,
-      wsMaxPayload: 4096
+      wsMaxPayload: 4096,
+      ledgerCommitTicks: 2
     })
     expect(config.operatorToken).toMatch(/^[0-9a-f]{64}$/)
     expect(loadConfig({}).operatorToken).not.toBe(config.operatorToken)
@@ -58,6 +59,8 @@ describe('configuration', () => {
     expect(error.message).not.toContain('short-secret')
     expect(error.message).not.toContain('mysql://secret')
     expect(() => loadConfig({ MIN_BET: '10', MAX_BET: '5' })).toThrow(/MAX_BET must be >= MIN_BET/)
+    expect(loadConfig({ LEDGER_COMMIT_TICKS: '1' }).ledgerCommitTicks).toBe(1)
+    expect(() => loadConfig({ LEDGER_COMMIT_TICKS: '16' })).toThrow(/LEDGER_COMMIT_TICKS="16": must be an integer from 1 to 15/)
   })
 
   it('makes `npm start` exit non-zero with a clear message on bad configuration', () => {

@@ -73,6 +73,44 @@ describe('GroupCommit', () => {
     expect(committed).toEqual([[1], [2, 3, 4]])
   })
 
+  it('gathers ticksPerCommit ticks a transaction, never splitting one; a job, the cap or a drain seals it at once', async () => {
+    const store = manualStore()
+    const committed = []
+    const ledger = new GroupCommit({ ...services(), store, ticksPerCommit: 3, maxMergedEntries: 5, onCommitted: (b) => committed.push(b.drops.map((d) => d.id)), onFailed: () => {} })
+    const tick = async (...ids) => {
+      for (const id of ids) ledger.addDrop(drop(id))
+      ledger.flush()
+      await flushMicrotasks()
+    }
+    await tick(1)
+    await tick(2, 3)
+    expect(store.pending).toHaveLength(0) // two ticks gathered of three
+    await tick(4)
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id))).toEqual([[1, 2, 3, 4]])
+    store.pending[0].resolve()
+    await tick(5)
+    await tick() // an empty tick counts: the clock, not the drops, decides
+    await tick()
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id))).toEqual([[1, 2, 3, 4], [5]])
+    store.pending[1].resolve()
+    await tick(6, 7, 8)
+    await tick(9, 10) // five entries: the cap seals it before its third tick
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id)).slice(2)).toEqual([[6, 7, 8, 9, 10]])
+    store.pending[2].resolve()
+    await tick(11)
+    const job = ledger.run(async () => 'rotated') // a seed rotation is written after drop 11, not two ticks later
+    await flushMicrotasks()
+    expect(store.pending.map((p) => p.batch.drops.map((d) => d.id)).slice(3)).toEqual([[11]])
+    store.pending[3].resolve()
+    expect(await job).toBe('rotated')
+    await tick(12)
+    const drained = ledger.drain()
+    await flushMicrotasks()
+    store.pending[4].resolve()
+    await drained
+    expect(committed).toEqual([[1, 2, 3, 4], [5], [6, 7, 8, 9, 10], [11], [12]])
+  })
+
   it('stops merging at maxMergedEntries: the ticks a long stall held queue as several transactions, in order', async () => {
     const store = manualStore()
     const committed = []
