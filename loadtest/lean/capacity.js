@@ -155,7 +155,7 @@ export function stepFigures (ours, floor) {
     slowCommits: a?.commit?.over50ms ?? null,
     /**
      * Share of the window the SQLite writer thread was runnable but waited for
-     * the core (it runs at nice 5, below the event loop): with many slow
+     * the core (it runs at nice 10, below the event loop): with many slow
      * commits, a high share says the commits waited for the CPU, not the disk.
      */
     writerWaitShare: ours.writerWaitShare ?? null,

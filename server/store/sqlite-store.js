@@ -175,16 +175,16 @@ export class SqliteStore {
 
 /**
  * The writer thread's nice value: below the event loop's 0, so that where
- * both want the same core the ticks mostly go first (a commit waits a
- * little; at the most players one core holds, see loadtest/RESULTS.md).
- * Not so low that it starves: at 10, a core loaded past what it holds
- * (6,000 players on this project's VM when slow) left the writer waiting
- * for the CPU 66–70% of the time and the acks 1.7–2.5 s late at p99,
- * against 46–48% and 0.40–0.47 s at 5, for the same CPU and a tick lag no
- * worse; at 19 the commits fell behind and merged into batches large
- * enough to delay the acks (drop → dropped p99 0.55 s).
+ * both want the same core the ticks go first (a commit waits a little; at
+ * the most players one core holds, see loadtest/RESULTS.md). Not so low
+ * that it starves: at 19 the commits fell behind and merged into batches
+ * large enough to delay the acks (drop → dropped p99 0.55 s). Past what
+ * the core holds the acks still fall behind at 10 (6,000 players on a slow
+ * VM: p99 1.0–4.4 s); at 5 they kept up (0.40–0.63 s), but 74–104 of the
+ * 6,000 players' connections failed during the ramp where none did at 10
+ * (loadtest/RESULTS.md, 6 December 2026).
  */
-export const WRITER_THREAD_NICE = 5
+export const WRITER_THREAD_NICE = 10
 
 /**
  * The reader thread's nice value: below the writer's too, so that on a
