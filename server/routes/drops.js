@@ -16,7 +16,7 @@ export default async function dropRoutes (app, { store, authGuard }) {
   app.get('/api/drops', {
     onRequest: asPlayer,
     schema: {
-      summary: "The caller's drops, newest first (in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page's last drop>",
+      summary: "The caller's drops, newest first (in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page's last drop> (any other id: 400 E_BAD_REQUEST)",
       querystring: {
         type: 'object',
         properties: {

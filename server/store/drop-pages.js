@@ -1,4 +1,5 @@
 import { dropFilterSql } from './drop-filter.js'
+import { gameError } from '../errors.js'
 import { DROP_COLUMNS_WITH_REVEALED_SEED, toDropRecord } from './records.js'
 
 /**
@@ -18,14 +19,18 @@ import { DROP_COLUMNS_WITH_REVEALED_SEED, toDropRecord } from './records.js'
  *   the one that tells their history.
  *   The cursor (beforeId newest first, afterId oldest first) names the last
  *   drop of the previous page; a page goes on after it. A cursor that is
- *   not one of the listed drops (any other id) bounds the ids instead.
+ *   not one of the player's (or the seed's) drops has no place in that
+ *   order: the page is null, and the store refuses the listing
+ *   (listedPage). Bounding the ids instead would read every drop of
+ *   a seed past the cursor, for each page.
  * - Any other filter (room, time, none) is one statement in id order.
  *
  * @param {import('./drop-filter.js').DropFilter} filter
  * @param {'ASC' | 'DESC'} order DESC: newest first (listings, cursor beforeId); ASC: oldest first (an export's pages, cursor afterId)
  * @param {number} limit
  * @param {'sqlite' | 'postgres'} dialect
- * @returns {Generator<{ sql: string, params: any[] }, object[], any[]>} yields statements, takes their rows, returns drop records
+ * @returns {Generator<{ sql: string, params: any[] }, object[] | null, any[]>} yields statements, takes their rows,
+ *   returns drop records (null: the cursor is not one of the listed drops)
  */
 export function * dropsPage (filter, order, limit, dialect) {
   const placeholder = dialect === 'sqlite' ? () => '?' : (n) => '$' + n
@@ -50,8 +55,6 @@ export function * dropsPage (filter, order, limit, dialect) {
 
   // The cursor: where in this walk the previous page ended.
   const cursor = order === 'DESC' ? filter.beforeId : filter.afterId
-  /** Not one of these drops: any id before (or after) it, in play order. */
-  const boundIds = () => { rest[order === 'DESC' ? 'beforeId' : 'afterId'] = cursor }
   if (filter.serverSeedHash !== undefined) {
     // The seed, and the cursor's nonce if the cursor is one of its drops: one statement.
     const [seed] = yield {
@@ -60,7 +63,7 @@ export function * dropsPage (filter, order, limit, dialect) {
       params: [cursor ?? null, filter.serverSeedHash]
     }
     if (!seed || (filter.playerId !== undefined && seed.player_id !== filter.playerId)) return []
-    if (cursor !== undefined && seed.cursor_nonce === null) boundIds()
+    if (cursor !== undefined && seed.cursor_nonce === null) return null
     yield * readSeed(seed.id, seed.cursor_nonce === null ? undefined : Number(seed.cursor_nonce))
     return drops
   }
@@ -72,12 +75,9 @@ export function * dropsPage (filter, order, limit, dialect) {
         WHERE d.id = ${placeholder(1)} AND s.player_id = ${placeholder(2)}`,
       params: [cursor, filter.playerId]
     }
-    if (at) {
-      yield * readSeed(at.id, Number(at.nonce))
-      lastSeed = at
-    } else {
-      boundIds()
-    }
+    if (!at) return null
+    yield * readSeed(at.id, Number(at.nonce))
+    lastSeed = at
   }
   const playerId = filter.playerId
   // A player's seeds, a few at a time from where the walk is, each read until the page is full.
@@ -97,6 +97,16 @@ export function * dropsPage (filter, order, limit, dialect) {
     }
     if (seeds.length < SEEDS_A_READ) return drops
   }
+}
+
+/**
+ * A page as the API gives it: a null page (its cursor is none of the
+ * listed drops) is refused with E_BAD_REQUEST.
+ * @param {object[] | null} page
+ */
+export function listedPage (page) {
+  if (page === null) throw gameError('E_BAD_REQUEST', 'before must be the id of one of the listed drops: the last drop of the previous page')
+  return page
 }
 
 /** A player's seeds read at a time by a listing of their drops (most players have one). */

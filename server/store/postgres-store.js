@@ -1,7 +1,7 @@
 import pg from 'pg'
 import { MIGRATIONS, MIGRATIONS_TABLE } from './migrations.js'
 import { toDropRecord, accountFromRow, seedFromRow, statsFromRows, ROOM_STATS_SQL, wholeBatchCommitted, DROP_COLUMNS_WITH_REVEALED_SEED, EXPORT_PAGE_DROPS, dropsInPages, DROP_SQL, NEXT_NONCE_SQL, newDropArrays, settlementArrays } from './records.js'
-import { dropsPage, driveDropsPageAsync } from './drop-pages.js'
+import { dropsPage, driveDropsPageAsync, listedPage } from './drop-pages.js'
 
 const INT8_OID = 20
 const NUMERIC_OID = 1700
@@ -156,11 +156,11 @@ export class PostgresStore {
   }
 
   async listDrops (filter) {
-    return this._selectDrops(filter, 'DESC', filter.limit)
+    return listedPage(await this._selectDrops(filter, 'DESC', filter.limit))
   }
 
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    yield * dropsInPages((afterId) => this._selectDrops({ ...filter, afterId }, 'ASC', pageSize), pageSize)
+    yield * dropsInPages(async (afterId) => listedPage(await this._selectDrops({ ...filter, afterId }, 'ASC', pageSize)), pageSize)
   }
 
   /** A page of the drops `filter` matches (drop-pages.js), on the listing pool. */

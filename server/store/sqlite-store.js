@@ -7,6 +7,7 @@ import { SqliteThreadClient } from './sqlite-thread-client.js'
 import { gameError } from '../errors.js'
 import { DiskReserve, checkpointLeftoverWal } from './disk-reserve.js'
 import { SqliteCheckpointer } from './sqlite-checkpoint-thread.js'
+import { listedPage } from './drop-pages.js'
 
 /**
  * The ledger on SQLite (Node's `node:sqlite`): WAL journal with synchronous=FULL,
@@ -136,12 +137,12 @@ export class SqliteStore {
   }
 
   async listDrops (filter) {
-    return this._read('listDrops', filter)
+    return listedPage(await this._read('listDrops', filter))
   }
 
   /** Every match, oldest first, EXPORT_PAGE_DROPS at a time from the reader thread. */
   iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    return dropsInPages((afterId) => this._read('dropsPage', { filter, afterId, pageSize }), pageSize)
+    return dropsInPages(async (afterId) => listedPage(await this._read('dropsPage', { filter, afterId, pageSize })), pageSize)
   }
 
   async listInFlightDrops () {
