@@ -117,7 +117,7 @@ function dropLookupRoutes (app, store) {
         },
         additionalProperties: false
       },
-      response: { 200: dropList, ...errors(400, 401, 403) }
+      response: { 200: dropList, ...errors(400, 401, 403, 404) }
     }
   }, async (request) => {
     const { player, room, from, to, limit, before } = request.query

@@ -16,7 +16,7 @@ export default async function dropRoutes (app, { store, authGuard }) {
   app.get('/api/drops', {
     onRequest: asPlayer,
     schema: {
-      summary: "The caller's drops, newest first (in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page's last drop> (any other id: 400 E_BAD_REQUEST)",
+      summary: "The caller's drops, newest first (in the order they were played: seed by seed, nonce by nonce); page with ?before=<id of the previous page's last drop> (any other id: 404 E_NOT_FOUND)",
       querystring: {
         type: 'object',
         properties: {
@@ -25,7 +25,7 @@ export default async function dropRoutes (app, { store, authGuard }) {
         },
         additionalProperties: false
       },
-      response: { 200: dropList, ...errors(400, 401) }
+      response: { 200: dropList, ...errors(400, 401, 404) }
     }
   }, async (request) => {
     const { limit, before } = request.query

@@ -101,11 +101,13 @@ export function * dropsPage (filter, order, limit, dialect) {
 
 /**
  * A page as the API gives it: a null page (its cursor is none of the
- * listed drops) is refused with E_BAD_REQUEST.
- * @param {object[] | null} page
+ * listed drops) is refused with E_NOT_FOUND, whether the cursor is another
+ * player's drop or no drop at all (as GET /api/drops/:id answers: ids
+ * cannot be counted).
+ * @param {object[] | null} page @param {number | undefined} cursor the page's beforeId or afterId
  */
-export function listedPage (page) {
-  if (page === null) throw gameError('E_BAD_REQUEST', 'before must be the id of one of the listed drops: the last drop of the previous page')
+export function listedPage (page, cursor) {
+  if (page === null) throw gameError('E_NOT_FOUND', `no drop ${cursor} among the listed drops: before must be the id of the previous page's last drop`)
   return page
 }
 

@@ -156,11 +156,11 @@ export class PostgresStore {
   }
 
   async listDrops (filter) {
-    return listedPage(await this._selectDrops(filter, 'DESC', filter.limit))
+    return listedPage(await this._selectDrops(filter, 'DESC', filter.limit), filter.beforeId)
   }
 
   async * iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    yield * dropsInPages(async (afterId) => listedPage(await this._selectDrops({ ...filter, afterId }, 'ASC', pageSize)), pageSize)
+    yield * dropsInPages(async (afterId) => listedPage(await this._selectDrops({ ...filter, afterId }, 'ASC', pageSize), afterId), pageSize)
   }
 
   /** A page of the drops `filter` matches (drop-pages.js), on the listing pool. */

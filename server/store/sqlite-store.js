@@ -137,12 +137,12 @@ export class SqliteStore {
   }
 
   async listDrops (filter) {
-    return listedPage(await this._read('listDrops', filter))
+    return listedPage(await this._read('listDrops', filter), filter.beforeId)
   }
 
   /** Every match, oldest first, EXPORT_PAGE_DROPS at a time from the reader thread. */
   iterateDrops (filter, pageSize = EXPORT_PAGE_DROPS) {
-    return dropsInPages(async (afterId) => listedPage(await this._read('dropsPage', { filter, afterId, pageSize })), pageSize)
+    return dropsInPages(async (afterId) => listedPage(await this._read('dropsPage', { filter, afterId, pageSize }), afterId), pageSize)
   }
 
   async listInFlightDrops () {

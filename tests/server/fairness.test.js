@@ -120,13 +120,13 @@ describe.each(STORE_KINDS)('provably fair seeds on %s', (kind) => {
     expect(someoneElses.body).toEqual({ ...none.body, message: none.body.message.replace(String(dropped.dropId + 1000), String(dropped.dropId)) })
     const bobsList = await server.api('GET', '/api/drops?limit=500', { token: bob.token })
     expect(bobsList.body.drops).toEqual([])
-    // A page's cursor is one of the caller's drops; another's is refused as an id that is no drop is.
+    // A page's cursor is one of the caller's drops; another's is not found, as an id that is no drop is.
     expect((await server.api('GET', `/api/drops?before=${dropped.dropId}`, { token: alice.token })).body).toEqual({ drops: [] })
     const pastSomeoneElses = await server.api('GET', `/api/drops?before=${dropped.dropId}`, { token: bob.token })
     const pastNone = await server.api('GET', `/api/drops?before=${dropped.dropId + 1000}`, { token: bob.token })
-    expect(pastSomeoneElses.status).toBe(400)
-    expect(pastSomeoneElses.body).toMatchObject({ code: 'E_BAD_REQUEST', message: expect.stringMatching(/last drop of the previous page/) })
-    expect(pastSomeoneElses.body).toEqual(pastNone.body)
+    expect(pastSomeoneElses.status).toBe(404)
+    expect(pastSomeoneElses.body).toMatchObject({ code: 'E_NOT_FOUND', message: expect.stringMatching(/previous page's last drop/) })
+    expect(pastSomeoneElses.body).toEqual({ ...pastNone.body, message: pastNone.body.message.replace(String(dropped.dropId + 1000), String(dropped.dropId)) })
     await alice.client.close()
   })
 })

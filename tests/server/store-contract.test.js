@@ -216,11 +216,11 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     expect(await ids({ playerId: 'player-eve', room: '8-low', limit: 10 })).toEqual([74])
     expect(await ids({ playerId: 'player-eve', room: '16-medium', beforeId: 74, limit: 10 })).toEqual([73, 72, 71, 70])
     expect(await ids({ playerId: 'player-eve', serverSeedHash: eve2.seed.hash, limit: 10 })).toEqual([74, 73])
-    // A cursor that is none of her drops has no place in her history: refused, and the same for a seed.
+    // A cursor that is none of her drops has no place in her history: not found, and the same for a seed.
     for (const beforeId of [75, 1, 9999]) {
-      await expect(ids({ playerId: 'player-eve', beforeId, limit: 10 })).rejects.toMatchObject({ code: 'E_BAD_REQUEST', statusCode: 400 })
+      await expect(ids({ playerId: 'player-eve', beforeId, limit: 10 })).rejects.toMatchObject({ code: 'E_NOT_FOUND', statusCode: 404 })
     }
-    await expect(ids({ serverSeedHash: eve2.seed.hash, beforeId: 72, limit: 10 })).rejects.toMatchObject({ code: 'E_BAD_REQUEST' })
+    await expect(ids({ serverSeedHash: eve2.seed.hash, beforeId: 72, limit: 10 })).rejects.toMatchObject({ code: 'E_NOT_FOUND' })
     expect(await ids({ playerId: 'player-eve', beforeId: 72, room: '8-low', limit: 10 })).toEqual([])
     expect(await collect({ playerId: 'player-eve' }, 2)).toEqual([70, 71, 72, 73, 74])
     expect(await collect({ playerId: 'player-eve', from: Date.UTC(2026, 11, 1, 12, 1, 11) }, 1)).toEqual([71, 72, 73, 74])
