@@ -11,7 +11,11 @@
  * process: `--players` players, batches of `--per-batch` new drops (one a
  * tick: 4,500 players dropping every 2 s is 37.5 a tick), each drop
  * debiting its player, and the drops of 180 batches before (a flight)
- * settled and credited. Layouts:
+ * settled and credited. A batch here is one tick's; the server's
+ * transactions gather LEDGER_COMMIT_TICKS ticks (default 2), so
+ * `--per-batch 75` is nearer a process of 4,500 players (its 180 batches
+ * then stand for two flights: each drop settles later, on the same kind
+ * of pages). Layouts:
  *
  * - as shipped (server/store/migrations.js): each settlement adds its drop
  *   to its room's totals (room_buckets, migration 3), drops_room_id
