@@ -231,6 +231,44 @@ describe.each(IMPLEMENTATIONS)('the ledger contract: $name', ({ name, backend: k
     expect(await collect({ playerId: 'player-gus' }, 10)).toEqual([75, 66, 67])
   })
 
+  it("walks a player's seeds a few at a time: many seeds, ties of creation time, pages across the reads", async () => {
+    const collect = async (filter, pageSize) => { const ids = []; for await (const drop of store.iterateDrops(filter, pageSize)) ids.push(drop.id); return ids }
+    const ids = async (filter) => (await store.listDrops(filter)).map((d) => d.id)
+    await store.createPlayer(newPlayer('hal', 1000))
+    let account = await store.loadAccount('player-hal')
+    // 40 seeds (the walk reads 16 at a time), two created in each second: ties broken by id.
+    // Drops 200.. on two seeds in three, two each (both seeds of some ties); the others stay empty.
+    const expected = []
+    let id = 200
+    for (let k = 0; k < 40; k++) {
+      if (k % 3 !== 2) {
+        const drops = [id, id + 1].map((dropId, n) => gameDrop(dropId, account, { nonce: n }))
+        await store.commitBatch(toLedgerBatch({ drops, settlements: [] }))
+        expected.push(id, id + 1)
+        id += 2
+      }
+      if (k < 39) {
+        // seed ids in the order of creation within each tie: hal-2a, hal-2b, hal-3a, …
+        await store.rotateSeed({ playerId: 'player-hal', oldSeedId: account.seed.id, newSeed: seedNamed(`hal-${2 + (k >> 1)}${'ab'[k & 1]}`), at: Date.UTC(2026, 11, 2) + 1000 * (k >> 1) })
+        account = await store.loadAccount('player-hal')
+      }
+    }
+    const newest = [...expected].reverse()
+    expect(await ids({ playerId: 'player-hal', limit: 100 })).toEqual(newest)
+    // Pages of 3 from each page's last drop: every drop once, in order.
+    const paged = []
+    let before
+    for (;;) {
+      const page = await ids({ playerId: 'player-hal', beforeId: before, limit: 3 })
+      paged.push(...page)
+      if (page.length < 3) break
+      before = page[page.length - 1]
+    }
+    expect(paged).toEqual(newest)
+    expect(await collect({ playerId: 'player-hal' }, 4)).toEqual(expected)
+    expect(await collect({ playerId: 'player-hal' }, 1000)).toEqual(expected)
+  })
+
   it("pages a seed's drops oldest first and newest first: only that seed's, across pages, another seed and another player's drops between them left out", async () => {
     const collect = async (filter, pageSize) => { const ids = []; for await (const drop of store.iterateDrops(filter, pageSize)) ids.push(drop.id); return ids }
     await store.createPlayer(newPlayer('cy', 1000))
