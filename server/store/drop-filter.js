@@ -6,9 +6,9 @@
 /**
  * WHERE clause for drop queries, shared by both stores; `placeholder(n)`
  * returns the n-th (1-based) parameter marker: '?' for SQLite, '$n' for
- * PostgreSQL. Columns belong to the alias `d` (drops). A player's and a
- * seed's drops are read seed by seed (drop-pages.js), each seed's
- * condition among `leading`.
+ * PostgreSQL. Columns belong to the alias `d` (drops). Every condition
+ * but the player and the seed: a player's and a seed's drops are read seed
+ * by seed (drop-pages.js), each seed's condition among `leading`.
  * @param {DropFilter} filter
  * @param {(n: number) => string} placeholder
  * @param {{ sql: string, value: any }[]} [leading] conditions before the filter's, each with one `?`
@@ -18,7 +18,6 @@ export function dropFilterSql (filter, placeholder, leading = []) {
   const params = []
   const add = (sql, value) => { params.push(value); clauses.push(sql.replace('?', placeholder(params.length))) }
   for (const { sql, value } of leading) add(sql, value)
-  if (filter.playerId !== undefined) add('d.player_id = ?', filter.playerId)
   if (filter.nonce !== undefined) add('d.nonce = ?', filter.nonce)
   if (filter.room !== undefined) add('d.room = ?', filter.room)
   if (filter.status !== undefined) add('d.status = ?', filter.status)

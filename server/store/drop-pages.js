@@ -41,13 +41,15 @@ export function * dropsPage (filter, order, limit, dialect) {
   }
 
   const sqliteIndex = dialect === 'sqlite' ? SQLITE_SEED_NONCE_INDEX : ''
-  // The filter's other conditions (room, status, nonce, time) apply within each seed.
-  const rest = { ...filter, playerId: undefined, serverSeedHash: undefined, beforeId: undefined, afterId: undefined }
+  // Past the cursor in the walk's order: below it newest first, above it oldest first.
+  const past = order === 'DESC' ? '<' : '>'
+  // The filter's other conditions (room, status, nonce, time) apply within each seed; the cursor is placed by the walk.
+  const rest = { ...filter, beforeId: undefined, afterId: undefined }
   const drops = []
   /** One seed's drops for the page, after `afterNonce` if given. */
   const readSeed = function * (seedId, afterNonce) {
     const leading = [{ sql: 'd.server_seed_id = ?', value: seedId }]
-    if (afterNonce !== undefined) leading.push({ sql: order === 'DESC' ? 'd.nonce < ?' : 'd.nonce > ?', value: afterNonce })
+    if (afterNonce !== undefined) leading.push({ sql: `d.nonce ${past} ?`, value: afterNonce })
     const { where, params } = dropFilterSql(rest, placeholder, leading)
     const rows = yield { sql: pageSql(where, `d.nonce ${order}`, placeholder(params.length + 1), sqliteIndex), params: [...params, limit - drops.length] }
     for (const row of rows) drops.push(toDropRecord(row))
@@ -79,16 +81,14 @@ export function * dropsPage (filter, order, limit, dialect) {
     yield * readSeed(at.id, Number(at.nonce))
     lastSeed = at
   }
-  const playerId = filter.playerId
   // A player's seeds, a few at a time from where the walk is, each read until the page is full.
-  const before = order === 'DESC' ? '<' : '>'
   for (;;) {
     if (drops.length >= limit) return drops
-    const after = lastSeed ? ` AND (created_at, id) ${before} (${placeholder(2)}, ${placeholder(3)})` : ''
+    const afterLast = lastSeed ? ` AND (created_at, id) ${past} (${placeholder(2)}, ${placeholder(3)})` : ''
     const seeds = yield {
-      sql: `SELECT id, created_at FROM server_seeds WHERE player_id = ${placeholder(1)}${after}
+      sql: `SELECT id, created_at FROM server_seeds WHERE player_id = ${placeholder(1)}${afterLast}
         ORDER BY created_at ${order}, id ${order} LIMIT ${SEEDS_A_READ}`,
-      params: lastSeed ? [playerId, lastSeed.created_at, lastSeed.id] : [playerId]
+      params: lastSeed ? [filter.playerId, lastSeed.created_at, lastSeed.id] : [filter.playerId]
     }
     for (const next of seeds) {
       if (drops.length >= limit) return drops
