@@ -8,8 +8,9 @@ describe("a process's threads as the scheduler counts them", () => {
     const from = readThreadSchedules(process.pid)
     expect(from.get(process.pid)).toMatchObject({ name: expect.any(String) })
     const started = performance.now()
-    // Busy for 300 ms of its own, then it says so and ends.
-    const worker = new Worker('const end = Date.now() + 300; while (Date.now() < end); require("node:worker_threads").parentPort.postMessage("done")', { eval: true })
+    // Busy for 300 ms of its own, then it says so and waits to be ended:
+    // a worker that ended by itself could leave /proc before the reading.
+    const worker = new Worker('const { parentPort } = require("node:worker_threads"); const end = Date.now() + 300; while (Date.now() < end); parentPort.postMessage("done"); parentPort.on("message", () => {})', { eval: true })
     await once(worker, 'message')
     const to = readThreadSchedules(process.pid)
     const seconds = (performance.now() - started) / 1000
