@@ -41,6 +41,14 @@ const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
 export const BEGIN_MARKER = '<!-- capacity:begin (written by npm run loadtest:capacity) -->'
 export const END_MARKER = '<!-- capacity:end -->'
 
+/**
+ * The generator's worker threads by default. Every latency the generator
+ * measures includes how late its event loop is when it reads a frame: at
+ * 6,000 players on its one CPU, one thread was late by 30–36 ms at p99 and
+ * two by 16–23, with the same share of that CPU (loadtest/RESULTS.md).
+ */
+export const GENERATOR_WORKERS = 2
+
 /** Every criterion a step must meet; `value` reads it from a step's figures. */
 export const CRITERIA = [
   { name: 'tick p99 < 8 ms', holds: (step) => step.tickP99Ms !== null && step.tickP99Ms < 8 },
@@ -59,7 +67,8 @@ export const USAGE = `usage: npm run loadtest:capacity -- [options]
   --duration TIME      steady phase per step (default 30s)
   --ramp TIME          players connect spread over this (default 20s)
   --floor-seconds TIME the floor's window per step (default 10s; 0 = no floor)
-  --workers N          generator worker threads (default 1)
+  --workers N          generator worker threads (default 2: one thread's event loop, late by 30-36 ms at p99
+                       with 6,000 players, adds that to every latency it measures)
   --delivery LIST      modes to measure, side by side: snapshots,seeds (default both)
   --ledger STORE       sqlite (default: a file beside the server, its writer thread on the server's core)
                        or postgres (a throwaway PostgreSQL on the generator's core)
@@ -108,7 +117,7 @@ export function parseCapacityArgs (argv) {
     durationS: parseDuration(values.duration ?? '30s', 'duration'),
     rampS: parseDuration(values.ramp ?? '20s', 'ramp'),
     floorSeconds: parseDuration(values['floor-seconds'] ?? '10s', 'floor-seconds'),
-    workers: values.workers === undefined ? 1 : positiveInteger(values.workers, 'workers'),
+    workers: values.workers === undefined ? GENERATOR_WORKERS : positiveInteger(values.workers, 'workers'),
     deliveries: [...new Set((values.delivery ?? DELIVERY_MODES.join(',')).split(',').map((raw) => deliveryMode(raw.trim(), 'delivery')))],
     ledger: capacityLedger(values.ledger ?? 'sqlite'),
     repeat: values.repeat === undefined ? 1 : positiveInteger(values.repeat, 'repeat'),
@@ -220,7 +229,7 @@ export function stepTallies (steps) {
 }
 
 /** The markdown table of the steps, and the verdict. @param {(ReturnType<typeof stepFigures> & { run?: number })[]} steps @param {object} options */
-export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 'sqlite', steered = false, date = new Date() }) {
+export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 'sqlite', steered = false, workers = GENERATOR_WORKERS, date = new Date() }) {
   const modes = [...new Set(steps.map((step) => step.delivery ?? 'snapshots'))]
   const tallies = stepTallies(steps)
   const repeated = tallies.some((tally) => tally.runs > 1)
@@ -233,7 +242,7 @@ export function capacityMarkdown (steps, { rooms, durationS, pinned, ledger = 's
   const header = '| players | delivery | server CPU | server µs/frame | floor µs/frame | ratio | server µs per player-second | server µs per drop | tick p99 | lag p99 | commits > 50 ms, writer waiting for the CPU | drop → dropped p50 / p99 | drop → settled p50 / p99 | drop → seen by the room p50 / p99 | errors, unsettled | frames/s, KB/s per player | RSS per player | generator CPU, µs/frame, loop late p99 | other processes | verdict |'
   const rows = steps.map((step) => `| ${playersCell(step)} | ${step.delivery ?? 'snapshots'} | ${pct(step.serverShare)} | ${f(step.serverUsPerFrame)} | ${f(step.floorUsPerFrame)} | ${step.ratio === null ? '–' : `${f(step.ratio, 2)}×`} | ${f(step.serverUsPerPlayerSecond, 0)} | ${f(step.serverUsPerDrop, 0)} | ${f(step.tickP99Ms, 2)} ms | ${f(step.lagP99Ms, 2)} ms | ${f(step.slowCommits, 0)}, ${pct(step.writerWaitShare)} | ${f(step.ackP50Ms, 0)} / ${f(step.ackP99Ms, 0)} ms | ${f(step.settledP50Ms, 0)} / ${f(step.settledP99Ms, 0)} ms | ${step.delivery === 'seeds' ? `${f(step.sightingP50Ms, 0)} / ${f(step.sightingP99Ms, 0)} ms` : '–'} | ${step.errors + step.serverErrors}, ${step.unsettled} | ${f(step.framesPerSecondPerPlayer)}, ${f(step.bytesPerSecondPerPlayer / 1000, 2)} | ${step.rssPerClient === null ? '–' : `${f(step.rssPerClient / 1000, 0)} KB`} | ${pct(step.generatorShare)}, ${f(step.generatorUsPerFrame, 2)}, ${f(step.generatorLateP99Ms, 0)} ms | ${pct(step.othersShare)} | ${step.holds ? 'holds' : `fails: ${step.failed.join(', ')}`} |`)
   return [
-    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}${steered ? ', the loopback\'s receive processing steered to CPU 1 (--steer-loopback: the generator\'s TCP receive off the server\'s core, and the server\'s own receive of the players\' messages with it)' : ''}.`,
+    `Last run: ${date.toISOString().slice(0, 16).replace('T', ' ')} UTC, ${rooms} rooms, one drop per player every 2 s, ${durationS} s steady phase per step, ${pinned ? `server pinned to CPU 0 and the generator${ledger === 'postgres' ? ' and PostgreSQL' : ''} to CPU 1` : 'NOT pinned'}, ${ledger === 'postgres' ? 'PostgreSQL ledger (flushed on every commit)' : 'SQLite ledger'}, the generator in ${workers === 1 ? 'one worker thread' : `${workers} worker threads`}${steered ? ', the loopback\'s receive processing steered to CPU 1 (--steer-loopback: the generator\'s TCP receive off the server\'s core, and the server\'s own receive of the players\' messages with it)' : ''}.`,
     '',
     `**Most players on one server process with every criterion met${repeated ? ' in every run of the step' : ''}: ${modes.map((mode) => `${mode} ${bestOf(mode)}`).join(', ')}** (criteria: ${CRITERIA.map((c) => c.name).join(', ')}).${repeated ? ` Runs that held, per step: ${runsHeld}.` : ''}`,
     '',
@@ -328,7 +337,7 @@ async function main () {
   }
   await postgres?.stop()
   restoreLoopback?.()
-  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger, steered: options.steerLoopback })
+  const markdown = capacityMarkdown(steps, { rooms: options.rooms, durationS: options.durationS, pinned, ledger: options.ledger, steered: options.steerLoopback, workers: options.workers })
   console.log(`\n${markdown}`)
   if (options.writeResults) {
     writeBetweenMarkers(RESULTS, markdown, capacitySection(options))

@@ -142,13 +142,17 @@ describe('capacity steps', () => {
     expect(parseCapacityArgs(['--repeat', '3']).repeat).toBe(3)
     expect(() => parseCapacityArgs(['--repeat', '0'])).toThrow(/positive integer/)
     expect(parseCapacityArgs([]).steerLoopback).toBe(false)
+    // Two generator threads unless told: one thread's lateness is in every latency it measures.
+    expect(parseCapacityArgs([]).workers).toBe(2)
+    expect(parseCapacityArgs(['--workers', '1']).workers).toBe(1)
+    expect(capacityMarkdown([stepFigures(ours(), null)], { rooms: 100, durationS: 20, pinned: true, workers: 1 })).toContain('SQLite ledger, the generator in one worker thread.')
     expect(parseCapacityArgs(['--steer-loopback']).steerLoopback).toBe(true)
   })
 
   it('says when the loopback receive was steered off the server core, and keeps that table in a section of its own', () => {
     const steps = [stepFigures(ours(), null)]
     expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true })).not.toContain('steered')
-    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, steered: true })).toContain("SQLite ledger, the loopback's receive processing steered to CPU 1 (--steer-loopback")
+    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, steered: true })).toContain("SQLite ledger, the generator in 2 worker threads, the loopback's receive processing steered to CPU 1 (--steer-loopback")
     expect(capacitySection({ ledger: 'sqlite' })).toBe(CAPACITY_SECTION)
     expect(capacitySection({ ledger: 'sqlite', steerLoopback: true })).toBe(CAPACITY_STEERED_SECTION)
     expect(capacitySection({ ledger: 'postgres', steerLoopback: true })).toBe(CAPACITY_POSTGRES_SECTION)
@@ -157,9 +161,9 @@ describe('capacity steps', () => {
 
   it('says which ledger the table was measured with, and keeps a PostgreSQL table beside the SQLite one', () => {
     const steps = [stepFigures(ours(), null)]
-    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true })).toContain('generator to CPU 1, SQLite ledger.')
+    expect(capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true })).toContain('generator to CPU 1, SQLite ledger, the generator in 2 worker threads.')
     const markdown = capacityMarkdown(steps, { rooms: 100, durationS: 20, pinned: true, ledger: 'postgres' })
-    expect(markdown).toContain('generator and PostgreSQL to CPU 1, PostgreSQL ledger (flushed on every commit).')
+    expect(markdown).toContain('generator and PostgreSQL to CPU 1, PostgreSQL ledger (flushed on every commit), the generator in 2 worker threads.')
     const file = path.join(fs.mkdtempSync(path.join(os.tmpdir(), 'plinko-capacity-')), 'RESULTS.md')
     fs.writeFileSync(file, `# Results\n\n${BEGIN_MARKER}\nsqlite table\n${END_MARKER}\n`)
     writeBetweenMarkers(file, markdown, CAPACITY_POSTGRES_SECTION)
