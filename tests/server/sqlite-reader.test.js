@@ -5,6 +5,7 @@ import path from 'node:path'
 import { DatabaseSync } from 'node:sqlite'
 import { SqliteStore, READER_THREAD_NICE, WRITER_THREAD_NICE } from '../../server/store/sqlite-store.js'
 import { openSqliteDatabase } from '../../server/store/sqlite-database.js'
+import { threadNices } from '../helpers/thread-nices.js'
 
 /**
  * The SQLite store's listings of drops run on a reader thread with a
@@ -96,13 +97,9 @@ describe('SQLite reader thread', () => {
   })
 
   it.runIf(fs.existsSync('/proc/thread-self'))('runs below the writer\'s priority, the event loop\'s unchanged', async () => {
-    const nices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
-      const stat = fs.readFileSync(`/proc/self/task/${tid}/stat`, 'utf8')
-      return [Number(tid), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[16])]
-    }))
     const thisThread = Number(fs.readlinkSync('/proc/thread-self').split('/').pop())
     await store.listDrops({ room: '16-medium.3', limit: 1 })
-    const now = nices()
+    const now = threadNices()
     expect(READER_THREAD_NICE).toBeGreaterThan(WRITER_THREAD_NICE)
     expect([...now.values()].filter((nice) => nice === READER_THREAD_NICE)).toHaveLength(1)
     expect(now.get(thisThread)).not.toBe(READER_THREAD_NICE)

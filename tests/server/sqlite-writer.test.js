@@ -8,12 +8,8 @@ import { SqliteStore } from '../../server/store/sqlite-store.js'
 import { WRITER_THREAD_NICE } from '../../server/store/sqlite-store.js'
 import { prepareWrites, transactionGroups, MAX_WRITES_PER_TRANSACTION } from '../../server/store/sqlite-writer-thread.js'
 import { MIGRATIONS } from '../../server/store/migrations.js'
+import { threadNices } from '../helpers/thread-nices.js'
 
-/** Nice value of every thread of this process, by thread id (Linux /proc). */
-const threadNices = () => new Map(fs.readdirSync('/proc/self/task').map((tid) => {
-  const stat = fs.readFileSync(`/proc/self/task/${tid}/stat`, 'utf8')
-  return [Number(tid), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[16])]
-}))
 
 /**
  * The SQLite store commits the tick's batches on a writer thread with its
