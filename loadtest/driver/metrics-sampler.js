@@ -121,8 +121,8 @@ export class MetricsSampler {
 
 /**
  * CPU seconds (user + system, and the system part alone: time in the
- * kernel) and resident memory of a process, or null when it is gone or
- * /proc is not there.
+ * kernel), resident memory and nice value of a process, or null when it
+ * is gone or /proc is not there.
  * @param {number} pid
  */
 export function readProcStat (pid) {
@@ -142,7 +142,7 @@ function readStat (file) {
     const utime = Number(fields[11])
     const stime = Number(fields[12])
     const rssPages = Number(fields[21])
-    return { cpuS: (utime + stime) / CLOCK_TICKS_PER_SECOND, kernelS: stime / CLOCK_TICKS_PER_SECOND, rss: rssPages * 4096 }
+    return { cpuS: (utime + stime) / CLOCK_TICKS_PER_SECOND, kernelS: stime / CLOCK_TICKS_PER_SECOND, rss: rssPages * 4096, nice: Number(fields[16]) }
   } catch {
     return null
   }

@@ -10,7 +10,6 @@ import { prepareWrites, transactionGroups, MAX_WRITES_PER_TRANSACTION } from '..
 import { MIGRATIONS } from '../../server/store/migrations.js'
 import { threadNices } from '../helpers/thread-nices.js'
 
-
 /**
  * The SQLite store commits the tick's batches on a writer thread with its
  * own connection (server/store/sqlite-store.js, sqlite-writer-thread.js): what it reports committed
