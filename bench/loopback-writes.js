@@ -71,6 +71,7 @@ async function main () {
   }
   const pinned = canPin() && pinSelf('0')
   const reader = fork(fileURLToPath(import.meta.url), ['--reader'], { stdio: ['ignore', 'inherit', 'inherit', 'ipc'] })
+  process.once('exit', () => reader.kill())
   try {
     if (pinned) spawnSync('taskset', ['-a', '-p', '-c', '1', String(reader.pid)], { stdio: 'ignore' })
     const port = await new Promise((resolve, reject) => { reader.once('message', resolve); reader.once('exit', () => reject(new Error('the reader exited'))) })
@@ -78,9 +79,11 @@ async function main () {
     const frame = Buffer.alloc(bytes, 0x5a)
     console.log(`loopback writes: ${sockets} sockets, ${bytes}-byte frames, ${FLUSH_CHUNK} a turn; ${pinned ? 'writer on CPU 0, reader on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
     const settings = values.steer ? ['not steered', 'steered to CPU 1'] : ['not steered']
+    // A signal ends the process through 'exit', where the steering is put back (steerForNow).
+    if (values.steer) for (const signal of ['SIGINT', 'SIGTERM']) process.once(signal, () => process.exit(130))
     for (let round = 1; round <= rounds; round++) {
       for (const setting of settings) {
-        const restore = setting === 'not steered' ? () => {} : steerLoopbackReceive(1)
+        const restore = setting === 'not steered' ? () => {} : steerForNow()
         try {
           const ticked = await measure(() => writeTicks(connections, frame, perTick, ticks), perTick * ticks)
           const burst = await measure(() => writeBackToBack(connections, frame, Math.max(1, Math.round(perTick * ticks / sockets))), sockets * Math.max(1, Math.round(perTick * ticks / sockets)))
@@ -93,6 +96,26 @@ async function main () {
     for (const socket of connections) socket.destroy()
   } finally {
     reader.kill()
+  }
+}
+
+/**
+ * Steers the loopback's receive to CPU 1 until the returned function is
+ * called, or the process exits; exits with code 1 and the reason when it
+ * cannot (not Linux, not root).
+ */
+function steerForNow () {
+  let restore
+  try {
+    restore = steerLoopbackReceive(1)
+  } catch (error) {
+    console.error(error.message)
+    process.exit(1)
+  }
+  process.once('exit', restore)
+  return () => {
+    process.off('exit', restore)
+    restore()
   }
 }
 
