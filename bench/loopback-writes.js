@@ -33,7 +33,7 @@ import { parseArgs } from 'node:util'
 import { setImmediate as nextTurn, setTimeout as sleep } from 'node:timers/promises'
 import { FLUSH_CHUNK } from '../server/realtime/write-batcher.js'
 import { canPin, pinSelf } from '../loadtest/lean/measure-server.js'
-import { steerLoopbackReceive } from '../loadtest/driver/loopback-steering.js'
+import { steerLoopbackReceiveUntilExit } from '../loadtest/driver/loopback-steering.js'
 
 const USAGE = 'usage: node bench/loopback-writes.js [--sockets N] [--bytes N] [--per-tick N] [--ticks N] [--rounds N] [--steer]'
 const TICK_MS = 16
@@ -79,14 +79,14 @@ async function main () {
     const frame = Buffer.alloc(bytes, 0x5a)
     console.log(`loopback writes: ${sockets} sockets, ${bytes}-byte frames, ${FLUSH_CHUNK} a turn; ${pinned ? 'writer on CPU 0, reader on CPU 1' : 'NOT pinned (no taskset or one CPU)'}`)
     const settings = values.steer ? ['not steered', 'steered to CPU 1'] : ['not steered']
-    // A signal ends the process through 'exit', where the steering is put back (steerForNow).
-    if (values.steer) for (const signal of ['SIGINT', 'SIGTERM']) process.once(signal, () => process.exit(130))
+    // Each socket about as often back to back as in the ticks.
+    const times = Math.max(1, Math.round(perTick * ticks / sockets))
     for (let round = 1; round <= rounds; round++) {
       for (const setting of settings) {
         const restore = setting === 'not steered' ? () => {} : steerForNow()
         try {
           const ticked = await measure(() => writeTicks(connections, frame, perTick, ticks), perTick * ticks)
-          const burst = await measure(() => writeBackToBack(connections, frame, Math.max(1, Math.round(perTick * ticks / sockets))), sockets * Math.max(1, Math.round(perTick * ticks / sockets)))
+          const burst = await measure(() => writeBackToBack(connections, frame, times), sockets * times)
           console.log(`round ${round}, ${setting}: as the server writes (${perTick} a tick) ${ticked}; back to back ${burst}`)
         } finally {
           restore()
@@ -101,21 +101,15 @@ async function main () {
 
 /**
  * Steers the loopback's receive to CPU 1 until the returned function is
- * called, or the process exits; exits with code 1 and the reason when it
- * cannot (not Linux, not root).
+ * called (or the process ends: steerLoopbackReceiveUntilExit); exits with
+ * code 1 and the reason when it cannot (not Linux, not root).
  */
 function steerForNow () {
-  let restore
   try {
-    restore = steerLoopbackReceive(1)
+    return steerLoopbackReceiveUntilExit(1)
   } catch (error) {
     console.error(error.message)
     process.exit(1)
-  }
-  process.once('exit', restore)
-  return () => {
-    process.off('exit', restore)
-    restore()
   }
 }
 

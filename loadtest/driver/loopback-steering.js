@@ -76,3 +76,29 @@ export function steerLoopbackReceive (cpu, { queues = LOOPBACK_QUEUES } = {}) {
   }
   return restore
 }
+
+/** Signals that end a steering process through 'exit' (steerLoopbackReceiveUntilExit). */
+const ENDING_SIGNALS = Object.freeze(['SIGINT', 'SIGTERM'])
+
+/**
+ * steerLoopbackReceive, put back on any way out: when the returned
+ * function is called, when the process exits, and on SIGINT or SIGTERM
+ * (which then end the process with code 130, through 'exit'). The
+ * steering outlives the process otherwise. The returned function also
+ * takes those listeners off again. Throws as steerLoopbackReceive does,
+ * changing nothing.
+ * @param {number} cpu
+ * @param {{ queues?: string }} [options] as steerLoopbackReceive's
+ * @returns {() => void}
+ */
+export function steerLoopbackReceiveUntilExit (cpu, options) {
+  const restore = steerLoopbackReceive(cpu, options)
+  const endThroughExit = () => process.exit(130)
+  process.once('exit', restore)
+  for (const signal of ENDING_SIGNALS) process.once(signal, endThroughExit)
+  return () => {
+    process.off('exit', restore)
+    for (const signal of ENDING_SIGNALS) process.off(signal, endThroughExit)
+    restore()
+  }
+}

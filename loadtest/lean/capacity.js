@@ -35,7 +35,7 @@ import { DELIVERY_MODES } from '../../protocol/client-messages.js'
 import { formatLeanSummary } from './lean-generator.js'
 import { canPin, pinSelf, measureFloor, measureOurs } from './measure-server.js'
 import { startPostgres } from '../../tools/postgres-process.js'
-import { steerLoopbackReceive } from '../driver/loopback-steering.js'
+import { steerLoopbackReceiveUntilExit } from '../driver/loopback-steering.js'
 
 const RESULTS = fileURLToPath(new URL('../RESULTS.md', import.meta.url))
 export const BEGIN_MARKER = '<!-- capacity:begin (written by npm run loadtest:capacity) -->'
@@ -301,14 +301,11 @@ async function main () {
   let restoreLoopback = null
   if (options.steerLoopback) {
     try {
-      restoreLoopback = steerLoopbackReceive(1)
+      restoreLoopback = steerLoopbackReceiveUntilExit(1)
     } catch (error) {
       console.error(error.message)
       process.exit(1)
     }
-    // Put back on any way out: the steering outlives this process otherwise.
-    process.once('exit', restoreLoopback)
-    for (const signal of ['SIGINT', 'SIGTERM']) process.once(signal, () => process.exit(130))
   }
   // Started after pinning: its processes inherit the generator's CPU.
   const postgres = options.ledger === 'postgres' ? await startPostgres({ durable: true }) : null

@@ -2,7 +2,7 @@ import { describe, it, expect } from 'vitest'
 import fs from 'node:fs'
 import os from 'node:os'
 import path from 'node:path'
-import { steerLoopbackReceive, cpuMask, LoopbackSteeringError } from '../../loadtest/driver/loopback-steering.js'
+import { steerLoopbackReceive, steerLoopbackReceiveUntilExit, cpuMask, LoopbackSteeringError } from '../../loadtest/driver/loopback-steering.js'
 
 /**
  * --steer-loopback's setting (loadtest/driver/loopback-steering.js), on a
@@ -30,6 +30,20 @@ describe('loopback receive steering', () => {
     expect([maskOf(queues, 'rx-0'), maskOf(queues, 'rx-1')]).toEqual(['0', '3'])
     restore() // twice (the run's end, then the process's exit): nothing more
     expect(maskOf(queues, 'rx-1')).toBe('3')
+  })
+
+  it('puts the steering back at the process\'s exit or a signal until told, then takes its listeners off', () => {
+    const queues = standInQueues(['0'])
+    const before = ['exit', 'SIGINT', 'SIGTERM'].map((event) => process.listenerCount(event))
+    const restore = steerLoopbackReceiveUntilExit(1, { queues })
+    expect(maskOf(queues, 'rx-0')).toBe('2')
+    expect(['exit', 'SIGINT', 'SIGTERM'].map((event) => process.listenerCount(event))).toEqual(before.map((n) => n + 1))
+    restore()
+    expect(maskOf(queues, 'rx-0')).toBe('0')
+    expect(['exit', 'SIGINT', 'SIGTERM'].map((event) => process.listenerCount(event))).toEqual(before)
+    // Refused: nothing steered, no listener left behind.
+    expect(() => steerLoopbackReceiveUntilExit(1, { queues: path.join(os.tmpdir(), 'plinko-no-such-queues') })).toThrow(LoopbackSteeringError)
+    expect(['exit', 'SIGINT', 'SIGTERM'].map((event) => process.listenerCount(event))).toEqual(before)
   })
 
   it('refuses with E_LOOPBACK_STEERING, changing nothing, where it cannot write', () => {
